@@ -210,6 +210,57 @@ pub fn simulate(
     options: &RcmOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SimulationRun> {
+    simulate_with_port_data(scenario, options, None, progress)
+}
+
+/// [`simulate`], with a moving-port scenario's known port fed forward from measured data: a
+/// CSV `t,x,y,z` of the port's displacement from where it was at the start (base frame, m),
+/// interpolated between rows, its velocity the rows' differences (`--port-trajectory`; it needs
+/// `--port known`, the default with it). The data must cover the run.
+pub fn simulate_with_port_data(
+    scenario: &str,
+    options: &RcmOptions,
+    port_data: Option<&Path>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<SimulationRun> {
+    if let Some(path) = port_data {
+        if !breathing::is_moving_port(scenario) {
+            return Err(Error::argument(
+                "port_trajectory",
+                format!(
+                    "`{scenario}` has a port known exactly; a port's trajectory is fed forward in {}",
+                    breathing::scenario_names().join(" and ")
+                ),
+            ));
+        }
+        if !matches!(options.port, None | Some(PortMode::Known)) {
+            return Err(Error::argument(
+                "port_trajectory",
+                "a measured port trajectory is what the known port follows: --port known (or none)",
+            ));
+        }
+        let data = crate::Trajectory::from_csv(path)?;
+        let shown = path.display();
+        let duration = breathing::duration_of(scenario);
+        let (first, last) = (data.t[0], data.t[data.t.len() - 1]);
+        if first > 0.0 || last < duration {
+            return Err(Error::Input(format!(
+                "{shown}: the port's trajectory covers {first} s to {last} s; the run lasts 0 s to {duration} s"
+            )));
+        }
+        let known = |t: f64| {
+            let at = data.at(t, &nalgebra::Matrix3::identity());
+            (
+                nalgebra::Vector3::from(at.position),
+                nalgebra::Vector3::from(at.velocity),
+            )
+        };
+        let options = RcmOptions {
+            port: Some(PortMode::Known),
+            ..*options
+        };
+        return breathing_scenario(scenario, &options, Some(&known), progress);
+    }
     if options.port.is_some() && !breathing::is_moving_port(scenario) {
         return Err(Error::argument(
             "port",
@@ -220,7 +271,7 @@ pub fn simulate(
         ));
     }
     if breathing::is_moving_port(scenario) {
-        breathing_scenario(scenario, options, progress)
+        breathing_scenario(scenario, options, None, progress)
     } else if is_closed_chain(scenario) {
         closed_chain_scenario(scenario, options, progress)
     } else if is_scene(scenario) {
@@ -291,6 +342,7 @@ fn closed_chain_scenario(
 fn breathing_scenario(
     scenario: &str,
     options: &RcmOptions,
+    known: Option<breathing::KnownPort<'_>>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SimulationRun> {
     let mode = options.port.unwrap_or(PortMode::Estimated);
@@ -308,7 +360,7 @@ fn breathing_scenario(
              (--method qp or none, --port fixed|known|estimated; no other option)"
         )));
     }
-    let trace = breathing::simulate(scenario, mode, progress)
+    let trace = breathing::simulate_with(scenario, mode, known, progress)
         .map_err(|e| Error::Simulation(e.to_string()))?;
     let last = |name: &str| trace.last(name).unwrap_or(f64::NAN);
     let peak = |name: &str| {
@@ -322,6 +374,7 @@ fn breathing_scenario(
         "scenario {scenario} (qp, the port {}):\n  peak force of the wall on the shaft {:.3} N (at the end {:.3} N)\n  the shaft at most {:.3e} m from the true port, {:.3e} m from the port held\n  the port held at the end {:.3e} m from the true port\n  the tip at most {:.3e} m from its target",
         match mode {
             PortMode::Fixed => "fixed where it was at the start",
+            PortMode::Known if known.is_some() => "known from its measured trajectory, fed forward",
             PortMode::Known => "known: its trajectory fed forward",
             PortMode::Estimated => "followed from the wall's force",
         },

@@ -19,6 +19,8 @@ pub struct Cli {
 }
 
 /// The subcommands of `trocar`.
+// Parsed once per process: the size of its largest variant (`simulate`'s options) costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Emit the generated Rust module for a robot description, a closed mechanism or a scene.
@@ -189,6 +191,11 @@ pub enum Command {
         /// on the shaft (the default).
         #[arg(long, value_name = "MODE", value_parser = port_values())]
         port: Option<trocar_api::PortMode>,
+        /// With `--port known` (or alone): the port's measured trajectory, a CSV `t,x,y,z` of its
+        /// displacement from where it was at the start (m, base frame), fed forward instead of
+        /// the scenario's own motion; it must cover the run.
+        #[arg(long, value_name = "F.csv")]
+        port_trajectory: Option<PathBuf>,
         /// Times (s) drawn by --snapshot, comma-separated (default: start, middle, end).
         #[arg(
             long,

@@ -6,7 +6,7 @@
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg] [--animate OUT.gif] [--snapshot OUT.png]
-//! trocar simulate panda-breathing [--port fixed|known|estimated] [--csv ...] [--plot ...]
+//! trocar simulate panda-breathing [--port fixed|known|estimated] [--port-trajectory F.csv] [--csv ...] [--plot ...]
 //! trocar simulate ROBOT.toml [--trajectory PATH.csv] [--q0 ...] [--trocar x,y,z] [--csv ...] [--plot ...] [--animate ...] [--snapshot ...]
 //! trocar register-port ROBOT.toml --joints F.csv [--least-spread DEG] [--forgetting LAMBDA] [--json]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
@@ -107,6 +107,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             q0,
             trocar,
             port,
+            port_trajectory,
         } => {
             let options = trocar_api::RcmOptions {
                 method: args::method(method.as_deref()),
@@ -118,7 +119,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             let own = trajectory.is_some()
                 || (trocar_api::Scenario::from_name(&scenario).is_err()
                     && std::path::Path::new(&scenario).is_file());
-            if own && port.is_some() {
+            if own && (port.is_some() || port_trajectory.is_some()) {
                 Err(CliError::Input(
                     "--port: applies to the scenario `panda-breathing` (a port that moves), not to a robot's own trajectory".into(),
                 ))
@@ -151,6 +152,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                     &scenario,
                     method,
                     &options,
+                    port_trajectory.as_deref(),
                     csv.as_deref(),
                     args::csv_rows(every, dt),
                     plot.as_deref(),

@@ -167,6 +167,21 @@ pub fn duration_of(name: &str) -> f64 {
 pub fn simulate(
     name: &str,
     mode: PortMode,
+    progress: impl FnMut(f64),
+) -> Result<MechanismTrace, SceneRunError> {
+    simulate_with(name, mode, None, progress)
+}
+
+/// A moving-port run's known port: its displacement from the port at the start (base frame,
+/// m) and its velocity (m/s) at time `t` (s), from measured data.
+pub type KnownPort<'a> = &'a dyn Fn(f64) -> (Vector3<f64>, Vector3<f64>);
+
+/// [`simulate`], with [`PortMode::Known`] feeding forward `known` — the port's trajectory as it
+/// was measured — instead of the scenario's own motion (`None`: the scenario's).
+pub fn simulate_with(
+    name: &str,
+    mode: PortMode,
+    known: Option<KnownPort<'_>>,
     mut progress: impl FnMut(f64),
 ) -> Result<MechanismTrace, SceneRunError> {
     let registration = match name {
@@ -256,7 +271,13 @@ pub fn simulate(
         // Where the controller holds the shaft, and how fast that place moves.
         let (trocar, trocar_rate) = match mode {
             PortMode::Fixed => (nominal, Vector3::zeros()),
-            PortMode::Known => (port, port_rate),
+            PortMode::Known => match known {
+                Some(data) => {
+                    let (d, v) = data(t);
+                    (port0 + d, v)
+                }
+                None => (port, port_rate),
+            },
             PortMode::Estimated => {
                 let rate = follower
                     .update(&force, &line.direction, DT)

@@ -70,10 +70,12 @@ fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
 
 /// Runs `trocar simulate`: every output path is checked before the simulation runs, the files
 /// are written whole once it has succeeded, and the summary goes to stderr.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn run(
     scenario: &str,
     method: Option<String>,
     options: &RcmOptions,
+    port_trajectory: Option<&Path>,
     csv: Option<&Path>,
     csv_rows: CsvRows,
     plot: Option<&Path>,
@@ -119,7 +121,7 @@ pub(crate) fn run(
             format!("scenario {scenario}")
         };
         let run = with_progress(&label, |progress| {
-            sim::simulate(scenario, options, progress)
+            sim::simulate_with_port_data(scenario, options, port_trajectory, progress)
         })?;
         write_run(&outputs, &run, csv, csv_rows, plot, views)?;
         run.summary
