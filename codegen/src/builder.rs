@@ -152,7 +152,8 @@ impl Builder {
     }
 
     /// Also emit each serial robot's C ABI: `extern "C"` functions `<module>_<function>(q,
-    /// params, out)` (and `<module>_controller_step` where the module has `Kinematics`) inside
+    /// params, out)` (and `<module>_controller_step` and `<module>_register_port` where the
+    /// module has `Kinematics`) inside
     /// the module, and the matching C header `<module>.h` beside `<module>.rs`
     /// ([`crate::emit::c_api`]). A crate built as a `staticlib` or `cdylib` then exports them.
     /// [`Builder::generate`] fails with [`Error::CSymbolClash`] when two of its modules would

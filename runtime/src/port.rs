@@ -36,6 +36,16 @@
 
 use nalgebra::{Matrix3, RealField, Vector3};
 
+/// The largest least spread (rad) that lines can reach: lines spread evenly in every direction
+/// have `μ_min(A)/W = 2/3`, so no set of lines spreads by more than `asin √(2/3)` ≈ 54.7°.
+pub const LARGEST_SPREAD: f64 = 0.955_316_618_124_509_3;
+
+/// Whether `least_spread` (rad) may be asked of [`PortRegistration::estimate`] by a user: an
+/// angle from 0 to [`LARGEST_SPREAD`] (a larger one could never be met).
+pub fn least_spread_admitted(least_spread: f64) -> bool {
+    least_spread.is_finite() && (0.0..=LARGEST_SPREAD).contains(&least_spread)
+}
+
 /// A line of the base frame: the points `point + t direction`, `direction` a unit vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Line<T: RealField + Copy> {

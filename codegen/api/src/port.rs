@@ -126,9 +126,7 @@ impl<'r> ShaftLines<'r> {
     }
 }
 
-/// The largest least spread (rad) that lines can reach: lines spread evenly in every direction
-/// have `μ_min(A)/W = 2/3`, so no set of lines spreads by more than `asin √(2/3)` ≈ 54.7°.
-pub const LARGEST_SPREAD: f64 = 0.955_316_618_124_509_3;
+pub use trocar::port::LARGEST_SPREAD;
 
 /// The port located from joint positions, one pose per row (`trocar register-port`): every
 /// row's shaft line taken, then the point nearest to them (least squares), refused where the
@@ -149,7 +147,7 @@ pub fn register_port(
         })?,
         None => PortRegistration::new(),
     };
-    if !(least_spread.is_finite() && (0.0..=LARGEST_SPREAD).contains(&least_spread)) {
+    if !trocar::port::least_spread_admitted(least_spread) {
         return Err(Error::Input(format!(
             "the least spread {}°: an angle from 0° to {:.1}° (no lines spread more)",
             least_spread.to_degrees(),

@@ -60,6 +60,15 @@ pub const C_TROCAR_YIELDED: i32 = 5;
 /// Return code of `<module>_controller_step`: a joint of `q` is beyond its range
 /// (`trocar::control::StepStatus::JointOutside`); `qd` moves it back only.
 pub const C_JOINT_OUTSIDE: i32 = 6;
+/// Return code of `<module>_register_port`: fewer than two poses (with forgetting, less weight
+/// than two poses'); nothing is written.
+pub const C_TOO_FEW_LINES: i32 = 7;
+/// Return code of `<module>_register_port`: the shaft's lines are nearly parallel (their spread
+/// below the least asked); only the spread is written.
+pub const C_NEAR_PARALLEL: i32 = 8;
+/// The number of values `<module>_register_port` writes: the port (3), its covariance
+/// column-major (9), the residual, the lines' spread.
+pub const C_REGISTER_PORT_LEN: usize = 14;
 /// The largest magnitude `<module>_controller_step` accepts for any value it reads: the number
 /// rule of every number trocar takes from a user (`trocar_model::validity::MAX_MAGNITUDE`).
 pub const C_MAX_MAGNITUDE: f64 = trocar_model::validity::MAX_MAGNITUDE;
@@ -98,7 +107,10 @@ fn symbol(spec: &ModuleSpec, f: &str) -> String {
 pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
     let functions = spec.functions.iter().map(|f| f.name.as_str());
     let fused = spec.fused.iter().map(|f| f.name.as_str());
-    let controller = has_controller(spec).then_some("controller_step");
+    let controller = has_controller(spec)
+        .then_some(["controller_step", "register_port"])
+        .into_iter()
+        .flatten();
     functions
         .chain(fused)
         .chain(controller)
@@ -107,7 +119,7 @@ pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
 }
 
 /// Whether the module has `Kinematics` (a constraint frame that slides along its link), and so
-/// `<module>_controller_step`.
+/// `<module>_controller_step` and `<module>_register_port`.
 fn has_controller(spec: &ModuleSpec) -> bool {
     spec.controller.as_ref().is_some_and(|c| c.offset.is_some())
 }
@@ -239,6 +251,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
     });
     let fused = spec.fused.iter().map(|f| fused_c(spec, f, real, &t));
     let controller = has_controller(spec).then(|| controller_step(spec, &t, rt));
+    let register = has_controller(spec).then(|| register_port(spec, &t, rt));
     let p_const = Literal::usize_unsuffixed(p_count);
     quote! {
         /// Number of parameters the C functions read from `params`.
@@ -259,10 +272,16 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
         /// C return code of the controller step: a joint is beyond its range; the rates
         /// written move it back only.
         pub const C_JOINT_OUTSIDE: i32 = 6;
+        /// C return code of the port's registration: fewer than two poses; nothing written.
+        pub const C_TOO_FEW_LINES: i32 = 7;
+        /// C return code of the port's registration: the shaft's lines are nearly parallel;
+        /// only their spread is written.
+        pub const C_NEAR_PARALLEL: i32 = 8;
         #read_params
         #(#fns)*
         #(#fused)*
         #controller
+        #register
     }
 }
 
@@ -597,14 +616,125 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
     }
 }
 
+/// `<module>_register_port`: the port from the shaft's lines at measured joint positions
+/// (`trocar::port::PortRegistration`, the least-squares point nearest to them).
+fn register_port(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenStream {
+    let c_name = format_ident!("{}", symbol(spec, "register_port"));
+    let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
+    let len = Literal::usize_unsuffixed(C_REGISTER_PORT_LEN);
+    // The spreads are `f64` in the runtime: cast for an `f32` module only.
+    let (to_f64, from_f64) = if t.to_string() == "f32" {
+        (quote!(as f64), quote!(as f32))
+    } else {
+        (quote!(), quote!())
+    };
+    let doc = format!(
+        " C ABI of the port's registration from the shaft's lines (`trocar::port`, the point \
+         nearest to every line in the least-squares sense): `int {c_name}(const T *joints, \
+         size_t poses, const T *params, T least_spread, T forgetting, T *out)`. `joints` holds \
+         `poses` rows of `N` joint values (row after row), one pose of the instrument pivoting \
+         about its port each; `least_spread` (rad, 0 to `trocar::port::LARGEST_SPREAD`) the \
+         least spread of the lines' directions to accept; `forgetting` in `(0.5, 1]` weighs each \
+         row `1/forgetting` times the one before (1: all the same). `out` receives \
+         {C_REGISTER_PORT_LEN} values: the port (3, base frame), its covariance column-major \
+         (9, m²), the lines' root-mean-square distance from it (m), their spread (rad).\n\n\
+         Returns 0; `C_TOO_FEW_LINES` (7: fewer than two poses, nothing written); \
+         `C_NEAR_PARALLEL` (8: the lines spread less than `least_spread`; only the spread, \
+         `out[13]`, is written); `C_INVALID_ARGUMENT` (4: a value read outside the number rule \
+         — finite, not subnormal, within ±1e6 —, `least_spread` or `forgetting` out of range; \
+         nothing written); `C_CONTROL_ERROR` (3: a shaft line could not be formed; nothing \
+         written); `C_NULL_ARGUMENT` (2: nothing written)."
+    );
+    quote! {
+        #[doc = #doc]
+        ///
+        /// # Safety
+        /// `joints` points to `poses · N` readable values, `params` to `PARAMS` values (null
+        /// when there are none), `out` to room for 14 values overlapping no input.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn #c_name(
+            joints: *const #t,
+            poses: usize,
+            params: *const #t,
+            least_spread: #t,
+            forgetting: #t,
+            out: *mut #t,
+        ) -> i32 {
+            use #rt::emitted::nalgebra::SVector;
+            use #rt::emitted::{ConstrainedKinematics, PortError, PortRegistration};
+            if joints.is_null() || out.is_null() {
+                return C_NULL_ARGUMENT;
+            }
+            // SAFETY: the caller's contract for `params`.
+            let Some((p, p_values)) = (unsafe { c_params(params) }) else {
+                return C_NULL_ARGUMENT;
+            };
+            // The number rule of every number trocar takes from a user.
+            let rule = |v: &#t| {
+                v.is_finite() && v.abs() <= #max && (*v == 0.0 || v.abs() >= #t::MIN_POSITIVE)
+            };
+            let settings_ok = p_values.iter().all(rule)
+                && rule(&least_spread)
+                && rule(&forgetting)
+                && #rt::emitted::least_spread_admitted(least_spread #to_f64);
+            let Ok(mut registration) = PortRegistration::<#t>::with_forgetting(forgetting) else {
+                return C_INVALID_ARGUMENT;
+            };
+            // A slice of `poses · N` values must not pass `isize::MAX` bytes.
+            let count = poses.checked_mul(N).filter(|c| {
+                c.checked_mul(::core::mem::size_of::<#t>())
+                    .is_some_and(|bytes| bytes <= isize::MAX as usize)
+            });
+            let Some(count) = count.filter(|_| settings_ok) else {
+                return C_INVALID_ARGUMENT;
+            };
+            // SAFETY: non-null (checked above); by the caller's contract `poses · N` readable
+            // values, `count` of them, whose size is within `isize::MAX` (checked above).
+            let joints = unsafe { ::core::slice::from_raw_parts(joints, count) };
+            if !joints.iter().all(rule) {
+                return C_INVALID_ARGUMENT;
+            }
+            let kin = Kinematics { params: p };
+            let shaft = kin.shaft();
+            for q in joints.chunks_exact(N) {
+                let g_0i = kin.g_0i(&SVector::<#t, N>::from_column_slice(q));
+                let added = shaft.line(&g_0i).map(|line| registration.add(&line));
+                if !matches!(added, Some(Ok(()))) {
+                    return C_CONTROL_ERROR;
+                }
+            }
+            // SAFETY: non-null (checked above) and, by the caller's contract, room for 14
+            // values that overlap no input.
+            let out: &mut [#t; #len] = unsafe { &mut *out.cast::<[#t; #len]>() };
+            match registration.estimate(least_spread) {
+                Ok(e) => {
+                    out[0..3].copy_from_slice(e.point.as_slice());
+                    out[3..12].copy_from_slice(e.covariance.as_slice());
+                    out[12] = e.residual;
+                    out[13] = e.spread;
+                    0
+                }
+                Err(PortError::TooFewLines { .. }) => C_TOO_FEW_LINES,
+                Err(PortError::NearParallel { spread, .. }) => {
+                    out[13] = spread #from_f64;
+                    C_NEAR_PARALLEL
+                }
+                Err(PortError::Invalid) => C_CONTROL_ERROR,
+            }
+        }
+    }
+}
+
 /// The return codes the header `#define`s, after the module's name in upper case.
-const CODES: [(&str, i32); 6] = [
+const CODES: [(&str, i32); 8] = [
     ("NOT_FINITE", C_NOT_FINITE),
     ("NULL_ARGUMENT", C_NULL_ARGUMENT),
     ("CONTROL_ERROR", C_CONTROL_ERROR),
     ("INVALID_ARGUMENT", C_INVALID_ARGUMENT),
     ("TROCAR_YIELDED", C_TROCAR_YIELDED),
     ("JOINT_OUTSIDE", C_JOINT_OUTSIDE),
+    ("TOO_FEW_LINES", C_TOO_FEW_LINES),
+    ("NEAR_PARALLEL", C_NEAR_PARALLEL),
 ];
 
 /// The header's include guard.
@@ -662,6 +792,12 @@ pub fn macros(spec: &ModuleSpec) -> Vec<(String, String)> {
         list.push((
             len_macro(&upper, &f.name),
             format!("the function `{}`", f.name),
+        ));
+    }
+    if has_controller(spec) {
+        list.push((
+            len_macro(&upper, "register_port"),
+            "the port's registration".to_string(),
         ));
     }
     for f in &spec.fused {
@@ -727,7 +863,10 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
         p = spec.params.len(),
     );
     let guard = guard(&upper);
-    let _ = writeln!(h, "#ifndef {guard}\n#define {guard}\n");
+    let _ = writeln!(
+        h,
+        "#ifndef {guard}\n#define {guard}\n\n#include <stddef.h>\n"
+    );
     for c in &spec.consts {
         let _ = writeln!(h, "#define {upper}_{} {}", c.name, c.value);
     }
@@ -831,6 +970,33 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
              int {m}_controller_step(const {ct} *q, const {ct} *params, const {ct} *target,\n    const {ct} *trocar, {ct} dt, const {ct} *gains, {ct} *qd, {ct} *report);\n",
             n = spec.joints,
             max = C_MAX_MAGNITUDE,
+        );
+        let _ = writeln!(
+            h,
+            "/* The port located from the shaft's lines: the point nearest to them all (least\n   \
+             squares), one line per pose of the instrument pivoting about its port.\n   \
+             joints[poses * {n}]: the measured joint values, pose after pose. least_spread (rad,\n   \
+             0 to {largest:.4}): the least spread of the lines' directions to accept.\n   \
+             forgetting in (0.5, 1]: each pose weighs 1/forgetting times the one before (1: all\n   \
+             the same).\n   \
+             out[{len_macro}]: the port (3, base frame), its covariance column-major\n   \
+             (9, m^2), the lines' root-mean-square distance from it (m), their spread (rad).\n   \
+             Returns 0;\n   \
+             {upper}_TOO_FEW_LINES when there are fewer than two poses (nothing written);\n   \
+             {upper}_NEAR_PARALLEL when the lines spread less than least_spread (only the spread,\n     \
+             out[13], is written: pivot the instrument further);\n   \
+             {upper}_INVALID_ARGUMENT when a value read is not finite, subnormal or beyond\n     \
+             +-{max:e}, or least_spread or forgetting is out of range (nothing written);\n   \
+             {upper}_CONTROL_ERROR when a shaft line cannot be formed (nothing written);\n   \
+             {upper}_NULL_ARGUMENT when joints or out is NULL (nothing written). */\n\
+             #define {len_macro} {len}\n\
+             int {m}_register_port(const {ct} *joints, size_t poses, const {ct} *params,\n    \
+             {ct} least_spread, {ct} forgetting, {ct} *out);\n",
+            n = spec.joints,
+            max = C_MAX_MAGNITUDE,
+            largest = trocar::port::LARGEST_SPREAD,
+            len = C_REGISTER_PORT_LEN,
+            len_macro = len_macro(&upper, "register_port"),
         );
     }
     let _ = writeln!(h, "#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */");

@@ -15,7 +15,8 @@
 //!   four `f64` or eight `f32` configurations side by side);
 //! - re-exports of the items of the rest of the crate that emitted code names: [`nalgebra`], the
 //!   controller's types ([`ConstrainedKinematics`], [`ConstrainedState`], [`Controller`] and
-//!   its configuration, for the controller glue and the C ABI's step) and [`Se3`].
+//!   its configuration, for the controller glue and the C ABI's step), the port's registration
+//!   ([`PortRegistration`], for the C ABI's `register_port`) and [`Se3`].
 //!
 //! Nothing else in the crate depends on this module: the numeric runtime ([`crate::kinematics`],
 //! [`crate::control`]) has its own arithmetic (`nalgebra`'s `RealField`, `std`'s or `libm`'s
@@ -39,6 +40,7 @@ pub use crate::control::{
     ConstrainedKinematics, ConstrainedState, ControlError, Controller, ControllerConfig, Damper,
     Damping, HardLimits, Method, NullSpaceObjective, Rcm, Reference, Shaft, StepStatus,
 };
+pub use crate::port::{least_spread_admitted, PortError, PortRegistration};
 pub use crate::se3::Se3;
 
 /// The linear-algebra crate of the controller's types (as [`crate::nalgebra`]).

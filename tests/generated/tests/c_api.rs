@@ -324,3 +324,57 @@ fn f32_controller_step_refuses_and_keeps_the_speed_limit() {
     assert!(qd.iter().all(|v| v.abs() <= 2.0), "{qd:?}");
     assert!(report.iter().all(|v| v.is_finite()));
 }
+
+/// The port's registration in an `f32` module: the recorded pivot's port within 0.1 mm of the
+/// trocar the run held (computed from the forward kinematics at its first pose), and a pose
+/// beyond the number rule refused with nothing written.
+#[test]
+fn f32_register_port_finds_the_pivot() {
+    let text = include_str!("../../../examples/ports/panda-laparoscope-pivot.csv");
+    let poses: Vec<f32> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('q'))
+        .flat_map(|l| {
+            l.split(',')
+                .map(|x| x.trim().parse::<f64>().unwrap() as f32)
+        })
+        .collect();
+    let count = poses.len() / 7;
+    assert_eq!(count * 7, poses.len());
+    // The pivot was recorded with the constraint frame at `l_a` = 0.25.
+    let pp = p::Params { l_a: 0.25 };
+    let q0: [f32; 7] = poses[..7].try_into().unwrap();
+    let (ri, ti) = p::forward_kinematics_i(&q0, &pp);
+    let (_, tir) = p::constraint_frame(&pp);
+    let mut trocar = [0.0_f32; 3];
+    for r in 0..3 {
+        trocar[r] = ti[r] + (0..3).map(|c| ri[c][r] * tir[c]).sum::<f32>();
+    }
+    let register = |poses: &[f32]| {
+        let mut out = [-7.0_f32; 14];
+        // SAFETY: `poses` holds `poses.len() / 7` rows of 7 values, params 1, out room for 14.
+        let code = unsafe {
+            p::panda_capi_f32_register_port(
+                poses.as_ptr(),
+                poses.len() / 7,
+                [0.25_f32].as_ptr(),
+                1f32.to_radians(),
+                1.0,
+                out.as_mut_ptr(),
+            )
+        };
+        (code, out)
+    };
+    let (code, out) = register(&poses);
+    assert_eq!(code, 0);
+    let off: f32 = (0..3)
+        .map(|k| (out[k] - trocar[k]).powi(2))
+        .sum::<f32>()
+        .sqrt();
+    assert!(off < 1e-4, "{off} m from the trocar");
+    let mut bad = poses.clone();
+    bad[30] = f32::MIN_POSITIVE / 4.0;
+    let (code, out) = register(&bad);
+    assert_eq!(code, p::C_INVALID_ARGUMENT);
+    assert!(out.iter().all(|&v| v == -7.0));
+}
