@@ -138,6 +138,43 @@ pub fn control_step(
     })
 }
 
+/// A fixed sequence of control steps, run the same way on the host and on a Cortex-M4F under
+/// QEMU (`examples/firmware/run-qemu.sh`), so that the two runs can be compared step by step:
+/// from [`sequence::Q0`] with the trocar at `l_a` = [`sequence::L_A0`] on link 6, the tip
+/// commanded with the constant body twist [`sequence::TWIST`] for [`sequence::STEPS`] steps of
+/// [`sequence::DT`].
+pub mod sequence {
+    use super::{control_step, dia10, Step, StepError, Tuning, N};
+
+    /// The start configuration (rad).
+    pub const Q0: [f32; N] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    /// The trocar's offset along link 6 at the start (m).
+    pub const L_A0: f32 = 0.15;
+    /// The end effector's body twist `(v, ω)` commanded at every step (m/s, rad/s).
+    pub const TWIST: [f32; 6] = [0.01, -0.02, 0.005, 0.0, 0.02, -0.01];
+    /// The sample time (s).
+    pub const DT: f32 = 0.002;
+    /// The number of steps (1 s).
+    pub const STEPS: usize = 500;
+
+    /// The trocar point: link 6's point at [`L_A0`] with the arm at [`Q0`] (base frame, m).
+    pub fn trocar() -> [f32; 3] {
+        let t = dia10::JointTrig::new(&Q0);
+        let (r, p) = dia10::forward_kinematics_i_trig(&t, &dia10::Params { l_a: 0.0 });
+        [0, 1, 2].map(|k| p[k] + L_A0 * r[1][k])
+    }
+
+    /// One step: [`control_step`] at `q` with [`TWIST`], then `q += DT θ̇` in `f32` (where the
+    /// step is refused, `q` stays).
+    pub fn step(q: &mut [f32; N], trocar: &[f32; 3], tuning: &Tuning) -> Result<Step, StepError> {
+        let s = control_step(q, trocar, &TWIST, tuning)?;
+        for (qk, v) in q.iter_mut().zip(&s.qdot) {
+            *qk += DT * v;
+        }
+        Ok(s)
+    }
+}
+
 /// Freestanding builds (`--features image --crate-type staticlib`): nothing to unwind to.
 #[cfg(feature = "image")]
 #[panic_handler]

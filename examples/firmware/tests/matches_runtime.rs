@@ -2,18 +2,9 @@
 //! faer solves) on the same law: `[v0i; θ̇_78] = J^rᵀ(J^r J^rᵀ + κ²I)⁻¹ u`,
 //! `θ̇_1..6 = J^B_0iᵀ(J^B_0i J^B_0iᵀ + κ_b²I)⁻¹ Λ# v0i`.
 
-use faer::linalg::solvers::Solve;
-use faer::{Col, Mat};
-use trocar_firmware::{control_step, dia10, Tuning};
-use trocar_model::description::RobotDescription;
-use trocar_sim::robot::NumericRobot;
+mod common;
 
-/// `Jᵀ (J Jᵀ + κ² I)⁻¹ b`, the solve by faer's LU.
-fn dls(j: &Mat<f64>, b: &Col<f64>, kappa: f64) -> Col<f64> {
-    let damping = Mat::from_fn(6, 6, |r, c| if r == c { kappa * kappa } else { 0.0 });
-    let a = j * j.transpose() + damping;
-    j.transpose() * a.partial_piv_lu().solve(b)
-}
+use trocar_firmware::{control_step, dia10, Tuning};
 
 fn trocar_point(q: &[f32; 8], l_a: f32) -> [f32; 3] {
     let t = dia10::JointTrig::new(q);
@@ -32,22 +23,8 @@ fn check(q: [f64; 8], l_a: f64, u: [f64; 6], tuning: Tuning) {
         step.l_a
     );
 
-    let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let robot = NumericRobot::<f64>::from_description(&d, &[("l_a".into(), l_a)]).unwrap();
-    let jr = robot.constrained_jacobian(&q).unwrap();
-    let w = robot.manipulability(&q).unwrap();
+    let (expected, w) = common::numeric_rates(&q, l_a, &u, &tuning);
     assert!((w - step.manipulability as f64).abs() < 1e-4 * w.max(1.0));
-    let kappa = trocar_firmware::damping(w as f32, tuning.w0, tuning.alpha0) as f64;
-    let x = dls(&jr, &Col::from_fn(6, |k| u[k]), kappa);
-    let sharp = robot.lambda_null_space().unwrap();
-    let twist_i = &sharp * x.as_ref().subrows(0, 4);
-    let jb = robot.partial_body_jacobian(&q).unwrap();
-    let before = dls(&jb, &twist_i, tuning.kappa_b as f64);
-    let expected: Vec<f64> = before
-        .iter()
-        .chain(x.as_ref().subrows(4, 2).iter())
-        .copied()
-        .collect();
     let scale = expected.iter().fold(1.0f64, |m, v| m.max(v.abs()));
     for (k, (a, b)) in step.qdot.iter().zip(&expected).enumerate() {
         assert!(

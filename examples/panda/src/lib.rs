@@ -30,6 +30,8 @@
 
 include!(concat!(env!("OUT_DIR"), "/panda.rs"));
 
+pub mod sequence;
+
 use trocar::control::{
     ControlError, ControllerConfig, Damping, HardLimits, Method, NullSpaceObjective, QpWeights,
     Rcm, Reference, StepOutput,

@@ -6,17 +6,9 @@ use trocar::control::Reference;
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
+use trocar_panda::sequence::reference_to_f32;
 use trocar_panda::{control_step, controller, Q0};
 use trocar_sim::simulation::{panda_reference, run, Scenario, ScenarioConfig, PANDA_TIP_DEPTH};
-
-fn to_f32(r: &Reference<f64>) -> Reference<f32> {
-    Reference {
-        position: r.position.cast(),
-        rotation: r.rotation.cast(),
-        velocity: r.velocity.cast(),
-        angular_velocity: r.angular_velocity.cast(),
-    }
-}
 
 #[test]
 fn f32_generated_controller_tracks_like_the_f64_numeric_run() {
@@ -40,7 +32,7 @@ fn f32_generated_controller_tracks_like_the_f64_numeric_run() {
     let mut q = Q0;
     let (mut worst, mut drift) = (0.0f64, 0.0f64);
     for k in 0..steps {
-        let reference = to_f32(&panda_reference(k as f64 * dt, &g0));
+        let reference = reference_to_f32(&panda_reference(k as f64 * dt, &g0));
         let out = control_step(&mut ctrl, &q, &reference, &trocar32, dt as f32)
             .unwrap_or_else(|e| panic!("step {k}: {e}"));
         let row = &f64_run.rows[k].q;
@@ -110,7 +102,7 @@ fn f32_qp_step_keeps_the_limits_like_the_f64_run() {
     let mut q = Q0;
     let (mut worst, mut drift) = (0.0f64, 0.0f64);
     for k in 0..steps {
-        let reference = to_f32(&panda_limits_reference(k as f64 * dt, &g0));
+        let reference = reference_to_f32(&panda_limits_reference(k as f64 * dt, &g0));
         let out = control_step(&mut ctrl, &q, &reference, &trocar32, dt as f32)
             .unwrap_or_else(|e| panic!("step {k}: {e}"));
         assert!(out.qp.is_some());
