@@ -357,7 +357,7 @@ fn breathing_scenario(
     if *options != alone && *options != qp_only {
         return Err(Error::Input(format!(
             "`{scenario}` runs the QP step with the drift correction and the URDF's limits \
-             (--method qp or none, --port fixed|known|estimated; no other option)"
+             (--method qp or none, --port fixed|known|estimated|registered; no other option)"
         )));
     }
     let trace = breathing::simulate_with(scenario, mode, known, progress)
@@ -377,6 +377,8 @@ fn breathing_scenario(
             PortMode::Known if known.is_some() => "known from its measured trajectory, fed forward",
             PortMode::Known => "known: its trajectory fed forward",
             PortMode::Estimated => "followed from the wall's force",
+            PortMode::Registered =>
+                "registered from the shaft's lines while the instrument pivoted, no force measured",
         },
         peak("port_force"),
         last("port_force"),

@@ -188,7 +188,8 @@ pub enum Command {
         trocar: Option<Vec<f64>>,
         /// How `panda-breathing`'s controller knows its moving port: `fixed` where it was at the
         /// start, `known` its trajectory fed forward, `estimated` followed from the wall's force
-        /// on the shaft (the default).
+        /// on the shaft (the default); `registered` (`panda-registration` only) from the shaft's
+        /// lines while the instrument pivots about the port, no force measured.
         #[arg(long, value_name = "MODE", value_parser = port_values())]
         port: Option<trocar_api::PortMode>,
         /// With `--port known` (or alone): the port's measured trajectory, a CSV `t,x,y,z` of its

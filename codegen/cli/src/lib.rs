@@ -6,7 +6,7 @@
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg] [--animate OUT.gif] [--snapshot OUT.png]
-//! trocar simulate panda-breathing [--port fixed|known|estimated] [--port-trajectory F.csv] [--csv ...] [--plot ...]
+//! trocar simulate panda-breathing [--port fixed|known|estimated|registered] [--port-trajectory F.csv] [--csv ...] [--plot ...]
 //! trocar simulate ROBOT.toml [--trajectory PATH.csv] [--q0 ...] [--trocar x,y,z] [--csv ...] [--plot ...] [--animate ...] [--snapshot ...]
 //! trocar register-port ROBOT.toml --joints F.csv [--least-spread DEG] [--forgetting LAMBDA] [--json]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx

@@ -101,6 +101,9 @@ fn the_port_modes_belong_to_the_moving_port() {
     let (code, _, stderr) = trocar(&["simulate", "panda-breathing", "--method", "dls"]);
     assert_ne!(code, 0);
     assert!(stderr.contains("runs the QP step"), "{stderr}");
+    let (code, _, stderr) = trocar(&["simulate", "panda-breathing", "--port", "registered"]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("--port estimated"), "{stderr}");
     let (code, _, stderr) = trocar(&["simulate", "panda-breathing", "--port", "guessed"]);
     assert_ne!(code, 0);
     assert!(

@@ -115,7 +115,7 @@ fn register_port<'py>(
 fn port_mode(name: &str) -> PyResult<trocar_api::PortMode> {
     trocar_api::PortMode::from_name(name).ok_or_else(|| {
         PyValueError::new_err(format!(
-            "port={name:?}: expected \"fixed\", \"known\" or \"estimated\""
+            "port={name:?}: expected \"fixed\", \"known\", \"estimated\" or \"registered\""
         ))
     })
 }
@@ -1144,8 +1144,9 @@ fn check_rotation(r: &[[f64; 3]; 3]) -> PyResult<()> {
 /// robot is driven along that tip path from `q0`, the trocar at `trocar` (default: the
 /// constraint frame's origin at `q0`); what is not given comes from the description's
 /// `[simulation]` section (`trocar_api::simulate_robot`). `port` (`"fixed"`, `"known"`,
-/// `"estimated"`; default `"estimated"`) is how `"panda-breathing"`'s controller knows its
-/// moving port.
+/// `"estimated"`; default `"estimated"`; `"registered"` for `"panda-registration"`: from the
+/// shaft's lines during a pivot, no force) is how the moving-port scenarios' controller knows
+/// its port.
 #[pyfunction]
 #[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default, trajectory = None, q0 = None, trocar = None, port = None))]
 #[allow(clippy::too_many_arguments)]

@@ -558,3 +558,17 @@ def test_the_breathing_port_followed_from_the_force():
         trocar.simulate("panda-breathing", port="guessed")
     with pytest.raises(ValueError, match="known exactly"):
         trocar.simulate("panda-laparoscope", port="known")
+
+
+def test_the_port_registered_from_a_pivot_without_force():
+    found = trocar.simulate("panda-registration", port="registered")
+    t = found["t"]
+    after = t >= 2.0
+    error = np.linalg.norm(
+        np.stack([found[f"estimate_{a}"] - found[f"port_{a}"] for a in "xyz"]), axis=0
+    )
+    assert error[0] > 9e-3
+    assert np.max(error[after]) <= 5e-4
+    assert np.max(found["port_force"][after]) <= 1.0
+    with pytest.raises(ValueError, match="--port estimated"):
+        trocar.simulate("panda-breathing", port="registered")

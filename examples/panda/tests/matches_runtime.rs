@@ -2,7 +2,6 @@
 //! runtime (`trocar_sim`): the same reference and trocar, joints within f32 accuracy, the trocar
 //! held and the tip on the circle (measured with f64 forward kinematics of the numeric model).
 
-use trocar::control::Reference;
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;

@@ -9,15 +9,23 @@
 //! - [`PortMode::Known`]: the true port, its trajectory fed forward ((3.33)–(3.34));
 //! - [`PortMode::Estimated`]: followed from the wall's force on the shaft
 //!   ([`trocar::port::PortFollower`], closing with 30 ms, the wall's normal known), its rate fed
-//!   forward.
+//!   forward;
+//! - [`PortMode::Registered`] (`panda-registration` only): found without a force from the
+//!   shaft's motion — the instrument pivots about the port for [`PIVOT_DURATION`] while the arm
+//!   yields to the wall (hand-guided, or compliant under a short pivot motion), every step's
+//!   shaft line from the measured joints (with encoder noise) goes into a
+//!   [`trocar::port::PortRegistration`], and the controller then holds the point nearest the
+//!   lines.
 //!
 //! `panda-registration` keeps the port still but starts the controller from a nominal port
 //! 10 mm across the shaft from the true one (a port registered that far off): `fixed` pushes
-//! the tissue by that much, `estimated` finds the port from the wall's force.
+//! the tissue by that much, `estimated` finds the port from the wall's force, `registered` from
+//! the shaft's lines during a pivot.
 //!
 //! The trace has the joints and their rates, the true port (`port_x..z`) and its displacement
 //! from the start (`port_dx..dz`), the port the controller holds — its estimate (`estimate_x..z`,
-//! the true port with `known`, the start with `fixed`) — and its distance from the true port
+//! the true port with `known`, the start with `fixed`; with `registered`, during the pivot, the
+//! registration's estimate so far) — and its distance from the true port
 //! (`estimate_error`), the wall's force (`port_force`, N), the shaft's distance from the true
 //! port (`port_offset`) and from the port held (`rcm_drift`), the tip's error (`ep_norm`), and
 //! whether the step held the port's rows (`port_held`, 0 where they gave way to the joints'
@@ -28,7 +36,7 @@ use crate::closed_chain::{MechanismTrace, Panel};
 use crate::scene::{controller, panda, SceneRunError};
 use nalgebra::{SVector, Vector3};
 use trocar::control::{ConstrainedKinematics, Rcm, Reference, StepStatus};
-use trocar::port::{PortFollower, Wall};
+use trocar::port::{PortFollower, PortRegistration, Wall};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
@@ -40,7 +48,7 @@ pub const REGISTRATION: &str = "panda-registration";
 /// How far the registration scenario's port is from its nominal place, across the shaft (m).
 pub const REGISTRATION_OFFSET: f64 = 0.01;
 /// The registration scenario's duration (s).
-pub const REGISTRATION_DURATION: f64 = 2.0;
+pub const REGISTRATION_DURATION: f64 = 3.0;
 
 /// The names of the moving-port scenarios.
 pub fn scenario_names() -> &'static [&'static str] {
@@ -71,6 +79,16 @@ pub const SHIFT_END: f64 = 12.0;
 pub const FOLLOWER_TIME_CONSTANT: f64 = 0.02;
 /// The largest rate of the port's estimate (m/s).
 pub const FOLLOWER_MAX_RATE: f64 = 0.05;
+/// [`PortMode::Registered`]: how long the instrument pivots about the port at the start (s).
+pub const PIVOT_DURATION: f64 = 2.0;
+/// [`PortMode::Registered`]: the pivot's largest angle from the shaft's start (rad): the tip
+/// draws a loop of radius `depth · tan(angle)` about its start.
+pub const PIVOT_ANGLE: f64 = 0.174_532_925_199_432_95; // 10°
+/// [`PortMode::Registered`]: the standard deviation of the encoder noise on the joints the
+/// registration reads (rad; uniform).
+pub const JOINT_NOISE: f64 = 1e-4;
+/// [`PortMode::Registered`]: the least spread of the shaft's lines accepted (rad, 2°).
+pub const REGISTRATION_LEAST_SPREAD: f64 = 0.034_906_585_039_886_59;
 
 /// How the controller knows the port.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,11 +99,19 @@ pub enum PortMode {
     Known,
     /// Followed from the wall's force on the shaft.
     Estimated,
+    /// Registered from the shaft's lines while the instrument pivots about the port at the
+    /// start, no force measured (`panda-registration`).
+    Registered,
 }
 
 impl PortMode {
     /// All modes, in the order compared.
-    pub const ALL: [PortMode; 3] = [PortMode::Fixed, PortMode::Known, PortMode::Estimated];
+    pub const ALL: [PortMode; 4] = [
+        PortMode::Fixed,
+        PortMode::Known,
+        PortMode::Estimated,
+        PortMode::Registered,
+    ];
 
     /// The mode's name on the command line.
     pub fn name(self) -> &'static str {
@@ -93,6 +119,7 @@ impl PortMode {
             PortMode::Fixed => "fixed",
             PortMode::Known => "known",
             PortMode::Estimated => "estimated",
+            PortMode::Registered => "registered",
         }
     }
 
@@ -150,6 +177,48 @@ pub fn nominal_offset(name: &str) -> Vector3<f64> {
     }
 }
 
+/// The tip's pivot of [`PortMode::Registered`] at `t` (s): its offset from the start and its
+/// velocity, a loop `R sin(πσ) (cos 2πσ u + sin 2πσ v)` with `σ` a quintic step from 0 to 1
+/// over [`PIVOT_DURATION`], `u`, `v` across the shaft and `R` the tip's depth below the port
+/// times `tan` [`PIVOT_ANGLE`]: it starts and ends at rest at the start.
+pub fn pivot_motion(
+    t: f64,
+    radius: f64,
+    u: &Vector3<f64>,
+    v: &Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    use std::f64::consts::PI;
+    let s = (t / PIVOT_DURATION).clamp(0.0, 1.0);
+    let sigma = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+    let sigma_rate = if s > 0.0 && s < 1.0 {
+        30.0 * s * s * (1.0 - s) * (1.0 - s) / PIVOT_DURATION
+    } else {
+        0.0
+    };
+    let (a, b) = (PI * sigma, 2.0 * PI * sigma);
+    let around = u * b.cos() + v * b.sin();
+    let around_rate = (v * b.cos() - u * b.sin()) * (2.0 * PI);
+    let offset = around * (radius * a.sin());
+    let rate = (around * (PI * a.cos()) + around_rate * a.sin()) * (radius * sigma_rate);
+    (offset, rate)
+}
+
+/// Encoder noise: the joints read with a deterministic uniform error of standard deviation
+/// [`JOINT_NOISE`] (xorshift, the same on every run).
+struct Encoders(u64);
+
+impl Encoders {
+    fn read(&mut self, q: &SVector<f64, 7>) -> SVector<f64, 7> {
+        q.map(|v| {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            let unit = (self.0 >> 11) as f64 / (1u64 << 53) as f64;
+            v + (2.0 * unit - 1.0) * JOINT_NOISE * 3f64.sqrt()
+        })
+    }
+}
+
 /// The duration (s) of the moving-port scenario `name`.
 pub fn duration_of(name: &str) -> f64 {
     if name == REGISTRATION {
@@ -194,6 +263,12 @@ pub fn simulate_with(
             )))
         }
     };
+    if mode == PortMode::Registered && !registration {
+        return Err(SceneRunError(format!(
+            "--port registered finds a still port from a pivot at the start ({REGISTRATION}); \
+             {name}'s port moves: follow it from the wall's force (--port estimated)"
+        )));
+    }
     let motion = |t: f64| true_port_motion(name, t);
     let duration = duration_of(name);
     let (kin, limits) = panda()?;
@@ -232,6 +307,20 @@ pub fn simulate_with(
     )
     .and_then(|f| f.with_normal(wall_normal()))
     .map_err(|e| SceneRunError(e.to_string()))?;
+    // `registered`: the lines of the shaft during the pivot, from the joints as the encoders
+    // read them; the pivot's plane across the shaft at the start.
+    let mut lines = PortRegistration::<f64>::new();
+    let mut encoders = Encoders(0x9E37_79B9_7F4A_7C15);
+    let mut registered: Option<Vector3<f64>> = None;
+    let shaft_direction = line_at(&q)?.direction;
+    let across = shaft_direction.cross(&Vector3::x());
+    let pivot_u = if across.norm() > 0.1 {
+        across.normalize()
+    } else {
+        shaft_direction.cross(&Vector3::y()).normalize()
+    };
+    let pivot_v = shaft_direction.cross(&pivot_u);
+    let pivot_radius = (g_0e0.translation - port0).norm() * PIVOT_ANGLE.tan();
     let mut columns: Vec<String> = vec!["t".into()];
     columns.extend((1..=7).map(|k| format!("q{k}")));
     columns.extend((1..=7).map(|k| format!("qd{k}")));
@@ -284,12 +373,46 @@ pub fn simulate_with(
                     .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
                 (follower.estimate, rate)
             }
+            // While the instrument pivots, the arm yields to the wall: the shaft turns about
+            // the true port (the plant, not the controller's knowledge); the registration sees
+            // only the joints. Then the controller holds the point nearest the lines.
+            PortMode::Registered => match registered {
+                Some(found) => (found, Vector3::zeros()),
+                None if t < PIVOT_DURATION => {
+                    lines
+                        .add(&line_at(&encoders.read(&q))?)
+                        .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
+                    (port, Vector3::zeros())
+                }
+                None => {
+                    let found = lines
+                        .estimate(REGISTRATION_LEAST_SPREAD)
+                        .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?
+                        .point;
+                    registered = Some(found);
+                    (found, Vector3::zeros())
+                }
+            },
+        };
+        // What the controller believes the port to be (the trace's estimate): the point held,
+        // or during the pivot the registration's estimate so far (the nominal port before it
+        // has one).
+        let believed = match mode {
+            PortMode::Registered if registered.is_none() => lines
+                .estimate(REGISTRATION_LEAST_SPREAD)
+                .map_or(nominal, |e| e.point),
+            _ => trocar,
+        };
+        let (pivot, pivot_rate) = if mode == PortMode::Registered && registered.is_none() {
+            pivot_motion(t, pivot_radius, &pivot_u, &pivot_v)
+        } else {
+            (Vector3::zeros(), Vector3::zeros())
         };
         let dv = shaft.trocar_rate(&g_0i(&q), &h, &trocar_rate);
         let reference = Reference {
-            position: g_0e0.translation + displacement,
+            position: g_0e0.translation + displacement + pivot,
             rotation: g_0e0.rotation,
-            velocity: port_rate,
+            velocity: port_rate + pivot_rate,
             angular_velocity: Vector3::zeros(),
         };
         let tip = kin.chain.forward_kinematics(&q).translation;
@@ -307,9 +430,9 @@ pub fn simulate_with(
         };
         row.extend(qd.iter().copied());
         row.extend(port.iter().copied());
-        row.extend(trocar.iter().copied());
+        row.extend(believed.iter().copied());
         row.extend(displacement.iter().copied());
-        row.push((trocar - port).norm());
+        row.push((believed - port).norm());
         row.push(force.norm());
         row.push(offset.norm());
         row.push(line.offset_from(&trocar).norm());
@@ -344,7 +467,7 @@ pub fn simulate_with(
                 panel(
                     "Finding the port: the port held, from the true one (10 mm at the start)",
                     "m",
-                    &[("estimate_error", "held port from the true port")],
+                    &[("estimate_error", "the port's estimate from the true port")],
                     false,
                 )
             } else {

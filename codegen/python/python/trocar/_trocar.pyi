@@ -114,8 +114,9 @@ def simulate(
     argument is a ``Robot`` or a description file, the robot is driven along that tip path from
     ``q0``, the trocar at ``trocar``; what is not given comes from the description's
     ``[simulation]`` section (``trajectory``, ``q0``, ``trocar``, ``method``, gains).
-    ``port`` (``"fixed"``, ``"known"``, ``"estimated"``; default ``"estimated"``) is how
-    ``"panda-breathing"``'s controller knows its moving port.
+    ``port`` (``"fixed"``, ``"known"``, ``"estimated"``; default ``"estimated"``;
+    ``"registered"`` for ``"panda-registration"``: from the shaft's lines during a pivot, no
+    force) is how the moving-port scenarios' controller knows its port.
     """
 
 def register_port(
