@@ -66,6 +66,12 @@ pub const C_TOO_FEW_LINES: i32 = 7;
 /// Return code of `<module>_register_port`: the shaft's lines are nearly parallel (their spread
 /// below the least asked); only the spread is written.
 pub const C_NEAR_PARALLEL: i32 = 8;
+/// Return code of the controller object's update: the insertion depth left its bounds
+/// (`trocar::control::StepStatus::DepthOutside`); rates and report written.
+pub const C_DEPTH_OUTSIDE: i32 = 9;
+/// Return code of the controller object: its storage is too small, misaligned, or was not
+/// written by this module's `init`.
+pub const C_BAD_STORAGE: i32 = 10;
 /// The number of values `<module>_register_port` writes: the port (3), its covariance
 /// column-major (9), the residual, the lines' spread.
 pub const C_REGISTER_PORT_LEN: usize = 14;
@@ -115,12 +121,13 @@ pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
         .chain(fused)
         .chain(controller)
         .map(|f| symbol(spec, f))
+        .chain(super::c_controller::symbols(spec))
         .collect()
 }
 
 /// Whether the module has `Kinematics` (a constraint frame that slides along its link), and so
 /// `<module>_controller_step` and `<module>_register_port`.
-fn has_controller(spec: &ModuleSpec) -> bool {
+pub(crate) fn has_controller(spec: &ModuleSpec) -> bool {
     spec.controller.as_ref().is_some_and(|c| c.offset.is_some())
 }
 
@@ -252,6 +259,83 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
     let fused = spec.fused.iter().map(|f| fused_c(spec, f, real, &t));
     let controller = has_controller(spec).then(|| controller_step(spec, &t, rt));
     let register = has_controller(spec).then(|| register_port(spec, &t, rt));
+    let object = has_controller(spec).then(|| super::c_controller::items(spec, &t, rt, real));
+    let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
+    let number_rule = has_controller(spec).then(|| {
+        quote! {
+            /// The number rule of every number trocar takes from a C caller: finite, not
+            /// subnormal, within ±1e6.
+            #[inline]
+            fn c_number_ok(v: #t) -> bool {
+                v.is_finite() && v.abs() <= #max && (v == 0.0 || v.abs() >= #t::MIN_POSITIVE)
+            }
+
+            /// A control step's outcome for a C caller: the rates into `qd` and, where `report`
+            /// is not null, its 8 values (`l_a`, `|e_p|`, `|ε̃|`, `|e_r|`, `w_r`, `w_i`, `κ_r`,
+            /// `κ_i`); the return code of its status. Where the step failed or a value is not
+            /// finite, `qd` is set to zeros, the report is not written, and the code is
+            /// `C_INVALID_ARGUMENT` (the configuration refused at this `dt`) or
+            /// `C_CONTROL_ERROR`.
+            ///
+            /// # Safety
+            /// `report` is null or points to room for 8 values that overlap nothing else.
+            unsafe fn c_write_step(
+                result: Result<#rt::emitted::StepOutput<#t, N, R>, #rt::emitted::ControlError>,
+                qd: &mut [#t; N],
+                report: *mut #t,
+            ) -> i32 {
+                use #rt::emitted::{ControlError, StepStatus};
+                let out = match result {
+                    Ok(out) => out,
+                    Err(e) => {
+                        *qd = [0.0; N];
+                        return match e {
+                            // Negative gains, `K dt` at or beyond its stable bound.
+                            ControlError::Config(_) => C_INVALID_ARGUMENT,
+                            _ => C_CONTROL_ERROR,
+                        };
+                    }
+                };
+                let values = [
+                    out.l_a,
+                    out.ep.norm(),
+                    out.eq.eps.norm(),
+                    out.lateral_error.norm(),
+                    out.w_r,
+                    out.w_i,
+                    out.kappa_r,
+                    out.kappa_i,
+                ];
+                if !(out.qd.iter().all(|v| v.is_finite()) && values.iter().all(|v| v.is_finite())) {
+                    *qd = [0.0; N];
+                    return C_CONTROL_ERROR;
+                }
+                qd.copy_from_slice(out.qd.as_slice());
+                if !report.is_null() {
+                    // SAFETY: non-null, room for 8 values by the caller's contract.
+                    unsafe { report.cast::<[#t; 8]>().write(values) };
+                }
+                match out.status {
+                    StepStatus::Held => 0,
+                    StepStatus::TrocarYielded => C_TROCAR_YIELDED,
+                    StepStatus::JointOutside => C_JOINT_OUTSIDE,
+                    StepStatus::DepthOutside => C_DEPTH_OUTSIDE,
+                }
+            }
+
+            /// The reference of a C caller's 18 values: the tip's position, orientation
+            /// column-major, linear and angular feed-forward velocities.
+            fn c_reference(v: &[#t; 18]) -> #rt::emitted::Reference<#t> {
+                use #rt::emitted::nalgebra::{Matrix3, Vector3};
+                #rt::emitted::Reference {
+                    position: Vector3::new(v[0], v[1], v[2]),
+                    rotation: Matrix3::from_column_slice(&v[3..12]),
+                    velocity: Vector3::new(v[12], v[13], v[14]),
+                    angular_velocity: Vector3::new(v[15], v[16], v[17]),
+                }
+            }
+        }
+    });
     let p_const = Literal::usize_unsuffixed(p_count);
     quote! {
         /// Number of parameters the C functions read from `params`.
@@ -277,11 +361,19 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
         /// C return code of the port's registration: the shaft's lines are nearly parallel;
         /// only their spread is written.
         pub const C_NEAR_PARALLEL: i32 = 8;
+        /// C return code of the controller object's update: the insertion depth left its
+        /// bounds; the rates written are the best within the limits.
+        pub const C_DEPTH_OUTSIDE: i32 = 9;
+        /// C return code of the controller object: its storage is too small, misaligned, or
+        /// not written by this module's `init`.
+        pub const C_BAD_STORAGE: i32 = 10;
         #read_params
+        #number_rule
         #(#fns)*
         #(#fused)*
         #controller
         #register
+        #object
     }
 }
 
@@ -420,7 +512,6 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
     } else {
         quote!()
     };
-    let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
     // Each joint's own speed limit (a URDF joint's `velocity`), infinite for none: the rates
     // keep it as well as `gains[6]` (`trocar::control::rate_box` takes the smaller).
     let speeds =
@@ -511,11 +602,8 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             qd: *mut #t,
             report: *mut #t,
         ) -> i32 {
-            use #rt::emitted::{
-                ControlError, Controller, ControllerConfig, Damping, Method, Rcm, Reference,
-                StepStatus,
-            };
-            use #rt::emitted::nalgebra::{Matrix3, SVector, Vector3};
+            use #rt::emitted::{Controller, ControllerConfig, Damping, Method, Rcm};
+            use #rt::emitted::nalgebra::{SVector, Vector3};
             if q.is_null() || target.is_null() || trocar.is_null() || gains.is_null() || qd.is_null() {
                 return C_NULL_ARGUMENT;
             }
@@ -538,9 +626,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             let qd: &mut [#t; N] = unsafe { &mut *qd.cast::<[#t; N]>() };
             // The number rule of every number trocar takes from a user: finite, not subnormal
             // (rounding debris), within ±1e6 (a trocar at 1e300 gave rates of 2e301).
-            let rule = |v: &#t| {
-                v.is_finite() && v.abs() <= #max && (*v == 0.0 || v.abs() >= #t::MIN_POSITIVE)
-            };
+            let rule = |v: &#t| c_number_ok(*v);
             let read_ok = q.iter().all(rule)
                 && p_values.iter().all(rule)
                 && target.iter().all(rule)
@@ -564,54 +650,15 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             #speed
             #objective
             let mut ctrl = ctrl;
-            let reference = Reference {
-                position: Vector3::new(target[0], target[1], target[2]),
-                rotation: Matrix3::from_column_slice(&target[3..12]),
-                velocity: Vector3::new(target[12], target[13], target[14]),
-                angular_velocity: Vector3::new(target[15], target[16], target[17]),
-            };
+            let reference = c_reference(target);
             let rcm = Rcm {
                 trocar: Vector3::new(trocar[0], trocar[1], trocar[2]),
                 dv: SVector::<#t, R>::zeros(),
             };
             let kin = Kinematics { params: p };
-            let out = match ctrl.step(&kin, &SVector::from(*q), &reference, &rcm, dt) {
-                Ok(out) => out,
-                Err(e) => {
-                    *qd = [0.0; N];
-                    return match e {
-                        // Negative gains, `K dt` at or beyond its stable bound.
-                        ControlError::Config(_) => C_INVALID_ARGUMENT,
-                        _ => C_CONTROL_ERROR,
-                    };
-                }
-            };
-            let values = [
-                out.l_a,
-                out.ep.norm(),
-                out.eq.eps.norm(),
-                out.lateral_error.norm(),
-                out.w_r,
-                out.w_i,
-                out.kappa_r,
-                out.kappa_i,
-            ];
-            if !(out.qd.iter().all(|v| v.is_finite()) && values.iter().all(|v| v.is_finite())) {
-                *qd = [0.0; N];
-                return C_CONTROL_ERROR;
-            }
-            qd.copy_from_slice(out.qd.as_slice());
-            if !report.is_null() {
-                // SAFETY: non-null, room for 8 values by the caller's contract.
-                let report: &mut [#t; 8] = unsafe { &mut *report.cast::<[#t; 8]>() };
-                *report = values;
-            }
-            match out.status {
-                // No insertion-depth bounds are set here: the depth is never outside them.
-                StepStatus::Held | StepStatus::DepthOutside => 0,
-                StepStatus::TrocarYielded => C_TROCAR_YIELDED,
-                StepStatus::JointOutside => C_JOINT_OUTSIDE,
-            }
+            let result = ctrl.step(&kin, &SVector::from(*q), &reference, &rcm, dt);
+            // SAFETY: `report` is null or, by the caller's contract, room for 8 values.
+            unsafe { c_write_step(result, qd, report) }
         }
     }
 }
@@ -620,7 +667,6 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
 /// (`trocar::port::PortRegistration`, the least-squares point nearest to them).
 fn register_port(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenStream {
     let c_name = format_ident!("{}", symbol(spec, "register_port"));
-    let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
     let len = Literal::usize_unsuffixed(C_REGISTER_PORT_LEN);
     // The spreads are `f64` in the runtime: cast for an `f32` module only.
     let (to_f64, from_f64) = if t.to_string() == "f32" {
@@ -669,10 +715,7 @@ fn register_port(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenS
             let Some((p, p_values)) = (unsafe { c_params(params) }) else {
                 return C_NULL_ARGUMENT;
             };
-            // The number rule of every number trocar takes from a user.
-            let rule = |v: &#t| {
-                v.is_finite() && v.abs() <= #max && (*v == 0.0 || v.abs() >= #t::MIN_POSITIVE)
-            };
+            let rule = |v: &#t| c_number_ok(*v);
             let settings_ok = p_values.iter().all(rule)
                 && rule(&least_spread)
                 && rule(&forgetting)
@@ -726,7 +769,7 @@ fn register_port(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenS
 }
 
 /// The return codes the header `#define`s, after the module's name in upper case.
-const CODES: [(&str, i32); 8] = [
+const CODES: [(&str, i32); 10] = [
     ("NOT_FINITE", C_NOT_FINITE),
     ("NULL_ARGUMENT", C_NULL_ARGUMENT),
     ("CONTROL_ERROR", C_CONTROL_ERROR),
@@ -735,6 +778,8 @@ const CODES: [(&str, i32); 8] = [
     ("JOINT_OUTSIDE", C_JOINT_OUTSIDE),
     ("TOO_FEW_LINES", C_TOO_FEW_LINES),
     ("NEAR_PARALLEL", C_NEAR_PARALLEL),
+    ("DEPTH_OUTSIDE", C_DEPTH_OUTSIDE),
+    ("BAD_STORAGE", C_BAD_STORAGE),
 ];
 
 /// The header's include guard.
@@ -800,6 +845,7 @@ pub fn macros(spec: &ModuleSpec) -> Vec<(String, String)> {
             "the port's registration".to_string(),
         ));
     }
+    list.extend(super::c_controller::macros(spec));
     for f in &spec.fused {
         list.push((
             len_macro(&upper, &f.name),
@@ -999,6 +1045,7 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
             len_macro = len_macro(&upper, "register_port"),
         );
     }
+    h.push_str(&super::c_controller::header(spec, real));
     let _ = writeln!(h, "#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */");
     h
 }

@@ -9,7 +9,8 @@
 //!   wrapped around the polynomial ones.
 //! - [`controller`]: the control step's items in a constrained robot's module
 //!   (`StepKinematics`, `step_kinematics`, `Kinematics`, `Controller`), written by [`rust`].
-//! - [`c_api`]: the C ABI (`extern "C"` functions) and its header.
+//! - [`c_api`]: the C ABI (`extern "C"` functions) and its header; [`c_controller`], the
+//!   stateful controller object within it.
 //! - [`checks`]: the module's checks and its evidence.
 //! - `doc`: the `#[doc]` attributes of emitted items, written alike by the Rust backend and the
 //!   controller glue.
@@ -20,6 +21,7 @@
 //! `SMatrix::<T, rows, cols>::from_data(ArrayStorage(a))` is free.
 
 pub mod c_api;
+pub mod c_controller;
 pub mod checks;
 pub mod controller;
 mod doc;

@@ -9,3 +9,15 @@
 //! writes it to `OUT_DIR`). See `examples/cpp/README.md`.
 
 include!(concat!(env!("OUT_DIR"), "/panda_laparoscope.rs"));
+
+/// The Panda's start configuration `(0, −π/4, 0, −3π/4, 0, π/2, π/4)` (rad), where `main.cpp`
+/// and the tests start.
+pub const Q0: [f64; 7] = [
+    0.0,
+    -core::f64::consts::FRAC_PI_4,
+    0.0,
+    -3.0 * core::f64::consts::FRAC_PI_4,
+    0.0,
+    core::f64::consts::FRAC_PI_2,
+    core::f64::consts::FRAC_PI_4,
+];

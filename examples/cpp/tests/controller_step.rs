@@ -6,16 +6,7 @@
 //! F27).
 
 use trocar_cpp_example::panda_laparoscope as m;
-
-const Q0: [f64; 7] = [
-    0.0,
-    -std::f64::consts::FRAC_PI_4,
-    0.0,
-    -3.0 * std::f64::consts::FRAC_PI_4,
-    0.0,
-    std::f64::consts::FRAC_PI_2,
-    std::f64::consts::FRAC_PI_4,
-];
+use trocar_cpp_example::Q0;
 
 /// The inputs of one step, as a C caller holds them.
 #[derive(Clone, Copy)]

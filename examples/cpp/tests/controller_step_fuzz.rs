@@ -22,16 +22,7 @@ use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use std::cell::RefCell;
 use std::path::Path;
 use trocar_cpp_example::panda_laparoscope as m;
-
-const Q0: [f64; 7] = [
-    0.0,
-    -std::f64::consts::FRAC_PI_4,
-    0.0,
-    -3.0 * std::f64::consts::FRAC_PI_4,
-    0.0,
-    std::f64::consts::FRAC_PI_2,
-    std::f64::consts::FRAC_PI_4,
-];
+use trocar_cpp_example::Q0;
 
 /// The value `qd` and `report` hold before a step: a step that writes them overwrites it.
 const SENTINEL: f64 = -123.25;

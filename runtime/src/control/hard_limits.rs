@@ -296,7 +296,80 @@ pub struct HardLimits<T: RealField + Copy, const N: usize> {
     pub depth_damper: Damper<T>,
 }
 
+/// Why [`HardLimits::check`] refused a set of limits (joints counted from 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitsError {
+    /// A joint's range is not `lower < upper` (or a bound is not a number).
+    Range(usize),
+    /// A joint's speed limit is not positive.
+    Speed(usize),
+    /// A joint's acceleration limit is not positive.
+    Acceleration(usize),
+    /// A joint's jerk limit is not positive.
+    Jerk(usize),
+    /// The insertion bounds are not `l_min < l_max`.
+    Depth,
+    /// A damper's influence distance is not above its safety distance, its safety distance is
+    /// negative, or its gain is not a positive finite number.
+    Damper,
+}
+
+impl core::fmt::Display for LimitsError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            LimitsError::Range(k) => write!(f, "joint {k}: its range needs lower < upper"),
+            LimitsError::Speed(k) => write!(f, "joint {k}: its speed limit must be > 0"),
+            LimitsError::Acceleration(k) => {
+                write!(f, "joint {k}: its acceleration limit must be > 0")
+            }
+            LimitsError::Jerk(k) => write!(f, "joint {k}: its jerk limit must be > 0"),
+            LimitsError::Depth => f.write_str("the insertion bounds need l_min < l_max"),
+            LimitsError::Damper => {
+                f.write_str("a damper needs influence > safety >= 0 and a finite gain > 0")
+            }
+        }
+    }
+}
+
 impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
+    /// Checks the limits: each joint's range `lower < upper` (a bound may be infinite: none),
+    /// its speed, acceleration and jerk limits `> 0` (`+∞`: none), the insertion bounds
+    /// `l_min < l_max`, and each damper's `ρ_i > ρ_s ≥ 0` (finite) with a finite `ξ > 0`.
+    /// A NaN anywhere is refused.
+    pub fn check(&self) -> Result<(), LimitsError> {
+        for k in 0..N {
+            let ordered = self.lower[k] < self.upper[k];
+            if !ordered {
+                return Err(LimitsError::Range(k + 1));
+            }
+            let positive = |v: T| v > T::zero();
+            if !positive(self.speed[k]) {
+                return Err(LimitsError::Speed(k + 1));
+            }
+            if !positive(self.acceleration[k]) {
+                return Err(LimitsError::Acceleration(k + 1));
+            }
+            if !positive(self.jerk[k]) {
+                return Err(LimitsError::Jerk(k + 1));
+            }
+        }
+        let ordered = self.depth[0] < self.depth[1];
+        if !ordered {
+            return Err(LimitsError::Depth);
+        }
+        for d in [&self.joint_damper, &self.depth_damper] {
+            let ok = d.influence.is_finite()
+                && d.safety >= T::zero()
+                && d.influence > d.safety
+                && d.gain.is_finite()
+                && d.gain > T::zero();
+            if !ok {
+                return Err(LimitsError::Damper);
+            }
+        }
+        Ok(())
+    }
+
     /// No limit at all (every bound infinite); the dampers `ρ_i = 0.2`, `ρ_s = 0.02`, `ξ = 3`
     /// (rad, rad/s) on the joints and `ρ_i = 0.02`, `ρ_s = 0.002` m, `ξ = 0.1` m/s on the
     /// depth, for when bounds are set: `ξ` above the speeds a joint (a Panda's: 2.175–2.61

@@ -64,8 +64,8 @@ mod shaft;
 pub use crate::linalg::determinant;
 pub use crate::manipulability::manipulability;
 pub use hard_limits::{
-    braking_speed, rate_box, ChordCheck, Damper, HardLimits, PreviousCommand, QpReport, QpWeights,
-    RateBox, RateRelaxation,
+    braking_speed, rate_box, ChordCheck, Damper, HardLimits, LimitsError, PreviousCommand,
+    QpReport, QpWeights, RateBox, RateRelaxation,
 };
 pub use inverse::{Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
@@ -290,6 +290,133 @@ pub enum Method<T> {
     /// [`ControllerConfig::max_joint_speed`]) as hard inequalities. `J^B_0i` is not inverted:
     /// [`ControllerConfig::jb0i_damping`] is unused.
     Qp(QpWeights<T>),
+}
+
+/// The controller's method by name, without its parameters: the [`Method`] that [`Gains::config`]
+/// makes of it with the damping, the filtered inverse's gains or the QP's weights of a
+/// [`Gains`] (the simulations, the command line, Python and the C ABI name methods so).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodKind {
+    /// No inverse: one quadratic program per step with the trocar, the joint limits, the joint
+    /// speed limits and the insertion depth as hard constraints ([`Method::Qp`]).
+    Qp,
+    /// Pseudo-inverses of `J^r_0e` and `J^B_0i`.
+    Pinv,
+    /// Damped least squares with variable damping (3.44) on `J^r_0e` and `J^B_0i`.
+    Dls,
+    /// Filtered inverse of `J^r_0e` (3.47)–(3.50); damped least squares (3.44) on `J^B_0i`.
+    Fi,
+}
+
+impl MethodKind {
+    /// Every method, in the order of the comparison figure.
+    pub const ALL: [MethodKind; 4] = [
+        MethodKind::Pinv,
+        MethodKind::Dls,
+        MethodKind::Fi,
+        MethodKind::Qp,
+    ];
+
+    /// `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MethodKind::Qp => "qp",
+            MethodKind::Pinv => "pinv",
+            MethodKind::Dls => "dls",
+            MethodKind::Fi => "fi",
+        }
+    }
+
+    /// What the method does, in one line (the command line's help).
+    pub fn summary(self) -> &'static str {
+        match self {
+            MethodKind::Qp => {
+                "one quadratic program per step: the trocar, the joint limits, the joint speed \
+                 limits and the insertion depth held as hard constraints"
+            }
+            MethodKind::Pinv => "Moore–Penrose pseudo-inverse",
+            MethodKind::Dls => "damped least squares with variable damping (3.44)–(3.46)",
+            MethodKind::Fi => "filtered inverse (3.47)–(3.50)",
+        }
+    }
+
+    /// Parses `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "qp" => Some(MethodKind::Qp),
+            "pinv" => Some(MethodKind::Pinv),
+            "dls" => Some(MethodKind::Dls),
+            "fi" => Some(MethodKind::Fi),
+            _ => None,
+        }
+    }
+}
+
+/// The parameters of every method, flat (as a scenario, a command line or a C caller gives
+/// them): [`Gains::config`] is the one mapping of a [`MethodKind`] and its gains onto a
+/// [`ControllerConfig`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gains<T> {
+    /// Position gain `K_p` (1/s).
+    pub kp: T,
+    /// Orientation gain `K_o` (1/s).
+    pub ko: T,
+    /// Drift correction gain `K_r` (1/s); 0 for the thesis's controller.
+    pub kr: T,
+    /// Variable damping (3.44): the largest damping `α0`, on the task Jacobian and on `J^B_0i`.
+    pub dls_alpha0: T,
+    /// Variable damping: the manipulability threshold `w0` of the task Jacobian.
+    pub dls_w0_task: T,
+    /// Variable damping: the manipulability threshold `w0` of `J^B_0i`.
+    pub dls_w0_jb0i: T,
+    /// The filtered inverse's gains `Γ_r = Γ_l` (3.47)–(3.50).
+    pub fi_gamma: T,
+    /// The QP's weight `κ` of the rates' norm (`γ = κ²`); the task's damping (3.44) as its floor.
+    pub qp_kappa: T,
+    /// The joint speed limit (rad/s), `None` for none.
+    pub max_joint_speed: Option<T>,
+}
+
+impl<T: RealField + Copy> Gains<T> {
+    /// The controller's configuration for `method`: DLS with variable damping on the task
+    /// Jacobian and on `J^B_0i`; the pseudo-inverses; the filtered inverse with DLS on
+    /// `J^B_0i`; the QP with `κ` ([`QpWeights::with_kappa`]) and the task's damping.
+    pub fn config(&self, method: MethodKind) -> ControllerConfig<T> {
+        let task = Damping::Variable {
+            alpha0: self.dls_alpha0,
+            w0: self.dls_w0_task,
+        };
+        let jb0i = Damping::Variable {
+            alpha0: self.dls_alpha0,
+            w0: self.dls_w0_jb0i,
+        };
+        let (method, jb0i_damping) = match method {
+            MethodKind::Pinv => (Method::Pinv, None),
+            MethodKind::Qp => (
+                Method::Qp(QpWeights {
+                    damping: Some(task),
+                    ..QpWeights::with_kappa(self.qp_kappa)
+                }),
+                None,
+            ),
+            MethodKind::Dls => (Method::Dls(task), Some(jb0i)),
+            MethodKind::Fi => (
+                Method::Fi {
+                    gamma_r: self.fi_gamma,
+                    gamma_l: self.fi_gamma,
+                },
+                Some(jb0i),
+            ),
+        };
+        ControllerConfig {
+            kp: self.kp,
+            ko: self.ko,
+            method,
+            jb0i_damping,
+            kr: self.kr,
+            max_joint_speed: self.max_joint_speed,
+        }
+    }
 }
 
 /// Gains and inverses of the controller.

@@ -38,7 +38,8 @@ pub use crate::control::scene::{
 };
 pub use crate::control::{
     ConstrainedKinematics, ConstrainedState, ControlError, Controller, ControllerConfig, Damper,
-    Damping, HardLimits, Method, NullSpaceObjective, Rcm, Reference, Shaft, StepStatus,
+    Damping, Gains, HardLimits, Method, MethodKind, NullSpaceObjective, Rcm, Reference, Shaft,
+    StepOutput, StepStatus,
 };
 pub use crate::port::{least_spread_admitted, PortError, PortRegistration};
 pub use crate::se3::Se3;

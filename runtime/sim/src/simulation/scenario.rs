@@ -2,9 +2,7 @@
 
 use core::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use trocar::control::{
-    self, ChordCheck, ControlError, ControllerConfig, Damping, QpWeights, Reference,
-};
+use trocar::control::{self, ChordCheck, ControlError, ControllerConfig, Reference};
 use trocar::se3::Se3;
 
 /// A simulation scenario.
@@ -75,58 +73,9 @@ pub const PANDA_Q0: [f64; 7] = [
 
 /// The controller's method by name: the [`control::Method`] a scenario runs, whose parameters
 /// (damping, gains of the filtered inverse, the QP's weights) come from its
-/// [`ScenarioConfig`] ([`ScenarioConfig::controller_config`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// No inverse: one quadratic program per step with the trocar, the joint limits, the joint
-    /// speed limits and the insertion depth as hard constraints ([`control::Method::Qp`]).
-    Qp,
-    /// Pseudo-inverses of `J^r_0e` and `J^B_0i`.
-    Pinv,
-    /// Damped least squares with variable damping (3.44) on `J^r_0e` and `J^B_0i`.
-    Dls,
-    /// Filtered inverse of `J^r_0e` (3.47)–(3.50); damped least squares (3.44) on `J^B_0i`.
-    Fi,
-}
-
-impl Method {
-    /// Every method, in the order of the comparison figure.
-    pub const ALL: [Method; 4] = [Method::Pinv, Method::Dls, Method::Fi, Method::Qp];
-
-    /// `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Qp => "qp",
-            Method::Pinv => "pinv",
-            Method::Dls => "dls",
-            Method::Fi => "fi",
-        }
-    }
-
-    /// What the method does, in one line (the command line's help).
-    pub fn summary(self) -> &'static str {
-        match self {
-            Method::Qp => {
-                "one quadratic program per step: the trocar, the joint limits, the joint speed \
-                 limits and the insertion depth held as hard constraints"
-            }
-            Method::Pinv => "Moore–Penrose pseudo-inverse",
-            Method::Dls => "damped least squares with variable damping (3.44)–(3.46)",
-            Method::Fi => "filtered inverse (3.47)–(3.50)",
-        }
-    }
-
-    /// Parses `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "qp" => Some(Method::Qp),
-            "pinv" => Some(Method::Pinv),
-            "dls" => Some(Method::Dls),
-            "fi" => Some(Method::Fi),
-            _ => None,
-        }
-    }
-}
+/// [`ScenarioConfig`] ([`ScenarioConfig::controller_config`]); the core's
+/// [`control::MethodKind`].
+pub use trocar::control::MethodKind as Method;
 
 /// Why a simulation failed.
 #[derive(Clone, Debug, PartialEq)]
@@ -648,40 +597,21 @@ impl ScenarioConfig {
 
     /// The controller's configuration.
     pub fn controller_config(&self) -> ControllerConfig<f64> {
-        let dls_r = Damping::Variable {
-            alpha0: self.dls_alpha0,
-            w0: self.dls_w0_r,
-        };
-        let dls_i = Damping::Variable {
-            alpha0: self.dls_alpha0,
-            w0: self.dls_w0_i,
-        };
-        let (method, jb0i_damping) = match self.method {
-            Method::Pinv => (control::Method::Pinv, None),
-            Method::Qp => (
-                control::Method::Qp(QpWeights {
-                    chord_check: self.qp_chord_check,
-                    damping: Some(dls_r),
-                    ..QpWeights::with_kappa(self.qp_kappa)
-                }),
-                None,
-            ),
-            Method::Dls => (control::Method::Dls(dls_r), Some(dls_i)),
-            Method::Fi => (
-                control::Method::Fi {
-                    gamma_r: self.fi_gamma,
-                    gamma_l: self.fi_gamma,
-                },
-                Some(dls_i),
-            ),
-        };
-        ControllerConfig {
+        let gains = control::Gains {
             kp: self.kp,
             ko: self.ko,
-            method,
-            jb0i_damping,
             kr: if self.drift_correction { self.kr } else { 0.0 },
+            dls_alpha0: self.dls_alpha0,
+            dls_w0_task: self.dls_w0_r,
+            dls_w0_jb0i: self.dls_w0_i,
+            fi_gamma: self.fi_gamma,
+            qp_kappa: self.qp_kappa,
             max_joint_speed: self.max_joint_speed,
+        };
+        let mut config = gains.config(self.method);
+        if let control::Method::Qp(weights) = &mut config.method {
+            weights.chord_check = self.qp_chord_check;
         }
+        config
     }
 }
