@@ -79,8 +79,8 @@ pub use emit::checks::ChecksGate;
 pub use error::Error;
 pub use ir::Real;
 pub use module::{
-    generate_c_header, generate_mechanism_string, generate_module, generate_module_string,
-    ModuleOptions,
+    generate_c_header, generate_cpp_header, generate_mechanism_string, generate_module,
+    generate_module_string, ModuleOptions,
 };
 pub use naming::module_name;
 pub use trocar_model::catalogue;

@@ -1,9 +1,6 @@
 // The Panda laparoscope's control loop from C++, through trocar's C ABI.
 //
-//   trocar generate panda-laparoscope --c-header panda_laparoscope.h
-//   cargo build -p trocar-cpp-example            # target/debug/libtrocar_cpp_example.a
-//   c++ -std=c++17 -I. examples/cpp/main.cpp target/debug/libtrocar_cpp_example.a
-//       -lpthread -ldl -lm -o panda_loop   (one line) && ./panda_loop
+//   cmake -S examples/cpp -B build && cmake --build build && build/panda_loop
 //
 // From the Panda scenario's start configuration, the laparoscope's tip moves 1 cm along the
 // start frame's x axis in 1 s (2 ms steps) while the shaft stays in the trocar (the shaft's point

@@ -27,6 +27,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod cmake;
 mod controller;
 mod error;
 mod evaluation;
@@ -37,6 +38,7 @@ pub mod scene;
 pub mod simulate;
 mod trajectory;
 
+pub use cmake::cmake_package;
 pub use controller::{
     proper_rotation, ControllerOptions, RobotController, Step, Target, ROTATION_TOLERANCE,
     SUPPORTED,

@@ -870,6 +870,27 @@ impl Robot {
         }
     }
 
+    /// The C++ header over a serial robot's C ABI (`trocar.hpp`-style: RAII controller,
+    /// `std::array` and pointer signatures, `enum class Status`), for a robot whose constraint
+    /// frame slides along its link.
+    pub fn cpp_header(&self, options: &trocar_codegen::ModuleOptions) -> Result<String> {
+        let name = self.name().to_string();
+        match &self.kind {
+            Kind::Serial(s) => {
+                trocar_codegen::generate_cpp_header(&s.desc, options)?.ok_or_else(|| {
+                    Error::Unsupported(format!(
+                    "`{name}` has no controller (its constraint frame does not slide along its \
+                     link): its C header alone serves"
+                ))
+                })
+            }
+            Kind::Mechanism(m) => Err(Error::Unsupported(format!(
+                "`{}` is a closed mechanism: the C ABI is emitted for serial robots",
+                m.model.name
+            ))),
+        }
+    }
+
     /// Checks a set of outputs asked for together (`what`): at least one, none twice (by the
     /// function, whichever of its names was given).
     pub fn check_outputs(functions: &[Function]) -> Result<()> {

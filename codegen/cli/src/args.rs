@@ -42,6 +42,19 @@ pub enum Command {
         /// function); alone, only the header is written.
         #[arg(long, value_name = "OUT.h")]
         c_header: Option<PathBuf>,
+        /// Write the C++ header over the C ABI to this file (header-only, namespace
+        /// `trocar::<module>`: the controller object as an RAII class, `std::array` and pointer
+        /// signatures, `enum class Status`); serial robots with a controller. Include it with
+        /// the C header beside it.
+        #[arg(long, value_name = "OUT.hpp")]
+        cpp_header: Option<PathBuf>,
+        /// Write a CMake and pkg-config package of the C ABI into this directory: the C and C++
+        /// headers, the static library (built with cargo, release), and
+        /// `lib/cmake/trocar_<module>/trocar_<module>Config.cmake`, so that
+        /// `find_package(trocar_<module>)` and `target_link_libraries(... trocar::<module>)`
+        /// work. `--real f32` for a `float` ABI (default: `double`).
+        #[arg(long, value_name = "DIR")]
+        cmake: Option<PathBuf>,
         /// Also emit a function computing several outputs in one program, e.g.
         /// `step=fk,jb0e,jr` (outputs by name or short name, as `eval --what` takes them);
         /// repeatable. Every module already has `pose_and_jacobian=fk,jb0e` and, with a

@@ -60,6 +60,8 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             real,
             c_api,
             c_header,
+            cpp_header,
+            cmake,
             functions,
             fma_at_run_time,
         } => commands::generate::run(
@@ -67,7 +69,11 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             output.as_deref(),
             real,
             c_api,
-            c_header.as_deref(),
+            commands::generate::Headers {
+                c: c_header.as_deref(),
+                cpp: cpp_header.as_deref(),
+                cmake: cmake.as_deref(),
+            },
             functions,
             fma_at_run_time,
         ),

@@ -24,6 +24,12 @@ pub(crate) fn with_progress<T>(label: &str, work: impl FnOnce(&mut dyn FnMut(f64
 /// computes: deriving a long or oblique chain's closed forms can take many seconds. Cleared
 /// afterwards.
 pub(crate) fn with_spinner<T>(label: &str, work: impl FnOnce() -> T) -> T {
+    with_stages(label, |_| work())
+}
+
+/// [`with_spinner`] for work in stages: `work` gets a callback that changes the spinner's
+/// label to what it does now (deriving, then building with cargo).
+pub(crate) fn with_stages<T>(label: &str, work: impl FnOnce(&mut dyn FnMut(&str)) -> T) -> T {
     let spinner = indicatif::ProgressBar::new_spinner();
     spinner.set_style(
         indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}")
@@ -31,7 +37,7 @@ pub(crate) fn with_spinner<T>(label: &str, work: impl FnOnce() -> T) -> T {
     );
     spinner.set_message(label.to_string());
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
-    let result = work();
+    let result = work(&mut |stage: &str| spinner.set_message(stage.to_string()));
     spinner.finish_and_clear();
     result
 }

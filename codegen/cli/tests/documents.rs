@@ -12,8 +12,8 @@
 //! temporary directory, and must exit with 0 and write the files it names:
 //!
 //! - an output (the value of `-o`, `--output`, `--csv`, `--plot`, `--animate`, `--snapshot`,
-//!   `--c-header`) is written into the temporary directory under its file name, so the documents'
-//!   own figures are never rewritten;
+//!   `--c-header`, `--cpp-header`, and the directory of `--cmake`) is written into the temporary
+//!   directory under its file name, so the documents' own figures are never rewritten;
 //! - an input path that exists relative to the repository's root (`examples/robots/ur5_trocar.toml`)
 //!   is given as that file;
 //! - a command shown twice runs once.
@@ -35,7 +35,7 @@ const SKIPPED: &[(&str, &str)] = &[];
 const PREFIXES: [&str; 2] = ["cargo run --release --bin trocar -- ", "trocar "];
 
 /// The options whose value is a file the command writes.
-const OUTPUTS: [&str; 7] = [
+const OUTPUTS: [&str; 8] = [
     "-o",
     "--output",
     "--csv",
@@ -43,7 +43,11 @@ const OUTPUTS: [&str; 7] = [
     "--animate",
     "--snapshot",
     "--c-header",
+    "--cpp-header",
 ];
+/// The options whose value is a directory the command writes (its package must hold a CMake
+/// package file).
+const OUTPUT_DIRS: [&str; 1] = ["--cmake"];
 
 /// One command found in a document.
 #[derive(Debug, Clone, PartialEq)]
@@ -177,9 +181,15 @@ fn run(binary: &Path, command: &DocCommand) -> Result<(), String> {
     let root = root();
     let mut args = Vec::new();
     let mut outputs = Vec::new();
+    let mut output_dirs = Vec::new();
     for (k, arg) in command.args.iter().enumerate() {
         let after_output = k > 0 && OUTPUTS.contains(&command.args[k - 1].as_str());
-        if after_output {
+        let after_output_dir = k > 0 && OUTPUT_DIRS.contains(&command.args[k - 1].as_str());
+        if after_output_dir {
+            let sub = dir.join(Path::new(arg).file_name().unwrap_or(arg.as_ref()));
+            output_dirs.push(sub.clone());
+            args.push(sub.into_os_string());
+        } else if after_output {
             let file = dir.join(Path::new(arg).file_name().unwrap_or(arg.as_ref()));
             outputs.push(file.clone());
             args.push(file.into_os_string());
@@ -206,6 +216,14 @@ fn run(binary: &Path, command: &DocCommand) -> Result<(), String> {
         ))
     } else if let Some(missing) = outputs.iter().find(|f| !f.is_file()) {
         Err(format!("{shown}: {} was not written", missing.display()))
+    } else if let Some(missing) = output_dirs
+        .iter()
+        .find(|d| !d.join("lib").join("cmake").is_dir())
+    {
+        Err(format!(
+            "{shown}: {} holds no CMake package",
+            missing.display()
+        ))
     } else {
         Ok(())
     };

@@ -7,13 +7,14 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use trocar::control::{
-    Controller, Gains, HardLimits, MethodKind, NullSpaceObjective, Rcm, StepStatus,
-};
+mod common;
+
+use common::{gains, rust_qp_controller, start, ACCELERATION, JERK, SPEED};
+use trocar::control::{Gains, MethodKind, Rcm, StepStatus};
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_cpp_example::panda_laparoscope as m;
 use trocar_cpp_example::Q0;
-use trocar_sim::simulation::{panda_limits_reference, PANDA_DEPTH_LIMITS, PANDA_TIP_DEPTH};
+use trocar_sim::simulation::{panda_limits_reference, PANDA_DEPTH_LIMITS};
 
 thread_local! {
     static COUNTING: Cell<bool> = const { Cell::new(false) };
@@ -41,10 +42,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
 
-/// libfranka's acceleration and jerk limits (the URDF 1.2 `<limit>`s of the shipped Panda).
-const ACCELERATION: [f64; 7] = [15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0];
-const JERK: [f64; 7] = [7500.0, 3750.0, 5000.0, 6250.0, 7500.0, 10000.0, 10000.0];
-
 /// The storage a C caller declares: `CONTROLLER_SIZE` bytes aligned to `CONTROLLER_ALIGN`.
 #[repr(C, align(16))]
 struct Storage([u8; m::C_CONTROLLER_SIZE]);
@@ -68,58 +65,6 @@ fn qp_config() -> m::CControllerConfig {
     c.depth_limits = 1;
     c.depth = PANDA_DEPTH_LIMITS;
     c
-}
-
-/// The gains of the C configuration's defaults, written out.
-fn gains() -> Gains<f64> {
-    Gains {
-        kp: 5.0,
-        ko: 10.0,
-        kr: 20.0,
-        dls_alpha0: 0.05,
-        dls_w0_task: 1e-3,
-        dls_w0_jb0i: 0.01,
-        fi_gamma: 5.0,
-        qp_kappa: 1e-3,
-        max_joint_speed: None,
-    }
-}
-
-/// The same controller built in Rust from `trocar::control`, independently of the C object.
-type RustController = Controller<f64, 7, 7, 2, 4, 4, 4>;
-
-fn rust_qp_controller() -> RustController {
-    let limits = m::JOINT_LIMITS;
-    let lower = SVector::from_fn(|k, _| limits[k][0]);
-    let upper = SVector::from_fn(|k, _| limits[k][1]);
-    let gains = gains();
-    let speed = SVector::from([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61]);
-    Controller::new(gains.config(MethodKind::Qp))
-        .with_limits(
-            HardLimits::none()
-                .with_joint_limits(lower, upper)
-                .with_speed_limits(speed)
-                .with_acceleration_limits(SVector::from(ACCELERATION))
-                .with_jerk_limits(SVector::from(JERK))
-                .with_depth(PANDA_DEPTH_LIMITS[0], PANDA_DEPTH_LIMITS[1]),
-        )
-        .with_objective(NullSpaceObjective::JointLimits {
-            gain: 10.0,
-            lower,
-            upper,
-        })
-}
-
-/// The trocar and the start pose from the generated kinematics.
-fn start() -> ([f64; 3], trocar::se3::Se3<f64>) {
-    let p = m::Params::nominal();
-    let (r, t) = m::forward_kinematics(&Q0, &p);
-    let g0 = trocar::se3::Se3::new(
-        trocar::nalgebra::Matrix3::from_fn(|i, j| r[j][i]),
-        Vector3::from(t),
-    );
-    let trocar = g0.translation - g0.rotation.column(2) * PANDA_TIP_DEPTH;
-    ([trocar.x, trocar.y, trocar.z], g0)
 }
 
 fn reference_values(t: f64, g0: &trocar::se3::Se3<f64>) -> [f64; 18] {
@@ -200,9 +145,7 @@ fn the_c_object_steps_as_the_rust_controller_and_keeps_the_limits() {
             .unwrap();
         for j in 0..7 {
             worst = worst.max((qd[j] - out.qd[j]).abs());
-            assert!(
-                qd[j].abs() <= [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61][j] * (1.0 + 1e-9)
-            );
+            assert!(qd[j].abs() <= SPEED[j] * (1.0 + 1e-9));
             assert!(
                 (qd[j] - previous[j]).abs() <= ACCELERATION[j] * dt * (1.0 + 1e-6) + 1e-12,
                 "step {k}: joint {} accelerates",
