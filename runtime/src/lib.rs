@@ -4,8 +4,8 @@
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
 //! fixed-size dense linear algebra ([`linalg`]), manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
 //! constrained kinematic controller ([`control`]), the distance between two instruments' shafts and its
-//! rate ([`distance`]), the port located from the shaft's lines ([`port`]) and the dense QP
-//! solver for its hard limits ([`qp`]). Generated code runs on [`emitted`], the one module it may call: the scalar traits
+//! rate ([`distance`]), the port located from the shaft's lines ([`port`]), the tip's reference
+//! along a path of rows ([`trajectory`]) and the dense QP solver for its hard limits ([`qp`]). Generated code runs on [`emitted`], the one module it may call: the scalar traits
 //! [`Real`] (one number) and [`Arith`] (also the lane types of `emitted::lanes`, feature
 //! `lanes`), the kernels only it uses (its `sin_cos`, the chain walked as SSE2 pairs, fused
 //! multiply-adds chosen at run time) and re-exports of the controller's types it names. The rest
@@ -29,6 +29,7 @@ pub mod manipulability;
 pub mod port;
 pub mod qp;
 pub mod se3;
+pub mod trajectory;
 
 /// The scalar traits of generated code ([`emitted::Real`], [`emitted::Arith`]), at the root for
 /// code written against generated functions.

@@ -11,8 +11,9 @@ use crate::controller::{ControllerOptions, RobotController, Target};
 use crate::error::{Error, Result};
 use crate::robot::Robot;
 use crate::simulate::SimulationRun;
-use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use std::path::{Path, PathBuf};
+use trocar::trajectory::{OrientationKind, PathRows};
 use trocar_model::description::SimulationDesc;
 use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 
@@ -353,75 +354,99 @@ impl Trajectory {
         !matches!(self.orientation, Orientation::None)
     }
 
-    /// The segment `[k, k + 1]` holding `t` and the fraction along it (clamped to the ends).
-    fn segment(&self, t: f64) -> (usize, f64) {
-        let n = self.t.len();
-        if t <= self.t[0] {
-            return (0, 0.0);
-        }
-        if t >= self.t[n - 1] {
-            return (n - 2, 1.0);
-        }
-        let k = self
-            .t
-            .partition_point(|&x| x <= t)
-            .saturating_sub(1)
-            .min(n - 2);
-        (k, (t - self.t[k]) / (self.t[k + 1] - self.t[k]))
-    }
-
     /// The reference at time `t`: position, orientation (from the start orientation `r0` for a
-    /// roll), velocity and angular velocity (zero outside the path's time span).
+    /// roll), velocity and angular velocity (zero outside the path's time span), as the rows give
+    /// it ([`trocar::trajectory::PathRows::at`]).
     ///
     /// # Panics
     /// With fewer than two rows, which [`Trajectory::parse`] and [`Trajectory::check`] refuse.
     pub fn at(&self, t: f64, r0: &Matrix3<f64>) -> Target {
-        let (k, s) = self.segment(t);
-        let inside = t > self.t[0] && t < self.t[self.t.len() - 1];
-        let span = self.t[k + 1] - self.t[k];
-        let (a, b) = (self.position[k], self.position[k + 1]);
-        let position = std::array::from_fn(|i| a[i] + s * (b[i] - a[i]));
-        let velocity = std::array::from_fn(|i| if inside { (b[i] - a[i]) / span } else { 0.0 });
-        let (rotation, angular_velocity) = match &self.orientation {
-            Orientation::None => (None, [0.0; 3]),
-            Orientation::Roll(r) => {
-                let roll = r[k] + s * (r[k + 1] - r[k]);
-                let rate = if inside {
-                    (r[k + 1] - r[k]) / span
-                } else {
-                    0.0
-                };
-                let rot = r0 * Rotation3::from_axis_angle(&Vector3::z_axis(), roll).into_inner();
-                let w = rot.column(2) * rate;
-                (Some(rot), [w[0], w[1], w[2]])
-            }
-            Orientation::Quaternion(qs) => {
-                let qa = unit(qs[k]);
-                let qb = unit(qs[k + 1]);
-                let q = qa.slerp(&qb, s);
-                // ω = axis · angle / span, in the base frame.
-                let w = if inside {
-                    (qb * qa.inverse()).scaled_axis() / span
-                } else {
-                    Vector3::zeros()
-                };
-                (
-                    Some(q.to_rotation_matrix().into_inner()),
-                    [w[0], w[1], w[2]],
-                )
-            }
-        };
+        let (position, rotation, velocity, angular_velocity) = PathRows::at(self, t, r0);
         Target {
-            position,
+            position: position.into(),
             rotation: rotation.map(|r| std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]))),
-            velocity,
-            angular_velocity,
+            velocity: velocity.into(),
+            angular_velocity: angular_velocity.into(),
+        }
+    }
+
+    /// The controller's reference at time `t` as `trocar simulate ROBOT --trajectory` builds it
+    /// ([`trocar::trajectory`]): with a roll, the orientation turned through the trocar and its
+    /// angular velocity by a central difference; `g0` the tip's pose at the start, `trocar` the
+    /// trocar point. Position only: no orientation (the controller keeps the tip's current one).
+    ///
+    /// # Panics
+    /// With fewer than two rows, which [`Trajectory::parse`] and [`Trajectory::check`] refuse.
+    pub fn reference(&self, t: f64, g0: &trocar::se3::Se3<f64>, trocar: &Vector3<f64>) -> Target {
+        match self.orientation {
+            Orientation::None => self.at(t, &g0.rotation),
+            _ => {
+                let r = PathRows::reference(self, t, g0, trocar, &g0.rotation);
+                Target {
+                    position: r.position.into(),
+                    rotation: Some(std::array::from_fn(|i| {
+                        std::array::from_fn(|j| r.rotation[(i, j)])
+                    })),
+                    velocity: r.velocity.into(),
+                    angular_velocity: r.angular_velocity.into(),
+                }
+            }
         }
     }
 }
 
-fn unit(q: [f64; 4]) -> UnitQuaternion<f64> {
-    UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
+fn unit(q: [f64; 4]) -> nalgebra::UnitQuaternion<f64> {
+    nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
+}
+
+impl Trajectory {
+    /// [`Trajectory::reference`] with plain arrays: the tip's start orientation (row by row)
+    /// and position, and the trocar point (for the Python and other front doors).
+    pub fn reference_from(
+        &self,
+        t: f64,
+        start_rotation: &[[f64; 3]; 3],
+        start_position: &[f64; 3],
+        trocar: &[f64; 3],
+    ) -> Target {
+        let g0 = trocar::se3::Se3::new(
+            Matrix3::from_fn(|i, j| start_rotation[i][j]),
+            Vector3::from(*start_position),
+        );
+        self.reference(t, &g0, &Vector3::from(*trocar))
+    }
+}
+
+/// The rows of a trajectory read from a CSV, for the runtime's one rule of the reference.
+impl PathRows<f64> for Trajectory {
+    fn rows(&self) -> usize {
+        self.t.len()
+    }
+    fn time(&self, k: usize) -> f64 {
+        self.t[k]
+    }
+    fn position(&self, k: usize) -> [f64; 3] {
+        self.position[k]
+    }
+    fn orientation(&self) -> OrientationKind {
+        match self.orientation {
+            Orientation::None => OrientationKind::None,
+            Orientation::Roll(_) => OrientationKind::Roll,
+            Orientation::Quaternion(_) => OrientationKind::Quaternion,
+        }
+    }
+    fn roll(&self, k: usize) -> f64 {
+        match &self.orientation {
+            Orientation::Roll(r) => r[k],
+            _ => 0.0,
+        }
+    }
+    fn quaternion(&self, k: usize) -> [f64; 4] {
+        match &self.orientation {
+            Orientation::Quaternion(q) => q[k],
+            _ => [1.0, 0.0, 0.0, 0.0],
+        }
+    }
 }
 
 /// How a user's simulation runs.
@@ -631,10 +656,7 @@ pub fn simulate_trajectory(
     let report = (steps / 100).max(1);
     for k in 0..=steps {
         let t = k as f64 * options.dt;
-        let target = match trajectory.orientation {
-            Orientation::Roll(_) => rolled_through(trajectory, t, &g0e, &trocar),
-            _ => trajectory.at(t, &g0e.rotation),
-        };
+        let target = trajectory.reference(t, &g0e, &trocar);
         let step = ctrl
             .step(
                 &q,
@@ -762,54 +784,6 @@ pub fn simulate_trajectory(
         }
     );
     Ok(SimulationRun::from_trace(trace, summary))
-}
-
-/// The target at `t` of a trajectory that gives a roll: the orientation the trocar allows at the
-/// desired tip, rolled about the shaft — `R_0e(q0) Rz(roll)` turned by the smallest rotation
-/// that takes the direction from the trocar to the start tip onto the direction from the trocar
-/// to the desired tip (as the Panda scenario's reference, `trocar_sim::simulation::
-/// panda_reference`): the task commands the roll, and the tilt it does not command leaves no
-/// orientation error. The angular velocity is the central difference of that orientation
-/// (`h = 1e-6` s).
-fn rolled_through(
-    trajectory: &Trajectory,
-    t: f64,
-    g0: &trocar::se3::Se3<f64>,
-    trocar: &Vector3<f64>,
-) -> Target {
-    let rotation = |t: f64| -> Matrix3<f64> {
-        let target = trajectory.at(t, &g0.rotation);
-        let r = target
-            .rotation
-            .map_or(g0.rotation, |r| Matrix3::from_fn(|i, j| r[i][j]));
-        let (Some(a), Some(b)) = (
-            (g0.translation - trocar).try_normalize(1e-12),
-            (Vector3::from(target.position) - trocar).try_normalize(1e-12),
-        ) else {
-            return r;
-        };
-        let axis = a.cross(&b);
-        let sin = axis.norm();
-        if sin == 0.0 {
-            return r;
-        }
-        let align = Rotation3::from_axis_angle(
-            &nalgebra::Unit::new_unchecked(axis / sin),
-            sin.atan2(a.dot(&b)),
-        );
-        align.matrix() * r
-    };
-    let mut target = trajectory.at(t, &g0.rotation);
-    let r = rotation(t);
-    let h = 1e-6;
-    let omega = (rotation(t + h) - rotation(t - h)) / (2.0 * h) * r.transpose();
-    target.rotation = Some(std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)])));
-    target.angular_velocity = [
-        0.5 * (omega[(2, 1)] - omega[(1, 2)]),
-        0.5 * (omega[(0, 2)] - omega[(2, 0)]),
-        0.5 * (omega[(1, 0)] - omega[(0, 1)]),
-    ];
-    target
 }
 
 /// The last component of a path as written, for titles.

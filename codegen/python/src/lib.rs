@@ -111,6 +111,69 @@ fn register_port<'py>(
     Ok(out)
 }
 
+/// A tip trajectory read from a CSV (`t,x,y,z` and `roll` or `qw,qx,qy,qz`), for a loop of
+/// one's own that follows it as `trocar simulate ROBOT --trajectory F.csv` does.
+#[pyclass(module = "trocar", frozen)]
+struct Trajectory {
+    inner: trocar_api::Trajectory,
+}
+
+#[pymethods]
+impl Trajectory {
+    /// Reads and checks the CSV at `path` (errors name the file, the line and the column).
+    #[staticmethod]
+    fn load(path: std::path::PathBuf) -> PyResult<Self> {
+        let inner = trocar_api::Trajectory::from_csv(&path).map_err(value_error)?;
+        let name = path.display().to_string();
+        inner.check(&name).map_err(value_error)?;
+        Ok(Trajectory { inner })
+    }
+
+    /// The controller's reference at time `t` (s), as `trocar simulate ROBOT --trajectory`
+    /// builds it: the position linear between rows and its slope fed forward; a roll turned
+    /// through the trocar with its angular velocity by a central difference; quaternions by
+    /// slerp. `start_rotation` (3 × 3) and `start_position` are the tip's pose at the start,
+    /// `trocar` the trocar point. A dict for `Controller.step`: `position`, `rotation` (`None`
+    /// for a path of positions only: the tip keeps its orientation), `velocity`,
+    /// `angular_velocity`.
+    fn reference<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        start_rotation: [[f64; 3]; 3],
+        start_position: [f64; 3],
+        trocar: [f64; 3],
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let finite = t.is_finite()
+            && start_rotation.iter().flatten().all(|v| v.is_finite())
+            && start_position.iter().chain(&trocar).all(|v| v.is_finite());
+        if !finite {
+            return Err(PyValueError::new_err(
+                "reference: t, start_rotation, start_position and trocar must be finite numbers",
+            ));
+        }
+        check_rotation(&start_rotation)?;
+        let r = self
+            .inner
+            .reference_from(t, &start_rotation, &start_position, &trocar);
+        let out = PyDict::new(py);
+        out.set_item("position", PyArray1::from_slice(py, &r.position))?;
+        match r.rotation {
+            Some(rot) => {
+                let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
+                out.set_item("rotation", rot.into_pyarray(py))?;
+            }
+            None => out.set_item("rotation", py.None())?,
+        }
+        out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
+        out.set_item(
+            "angular_velocity",
+            PyArray1::from_slice(py, &r.angular_velocity),
+        )?;
+        Ok(out)
+    }
+}
+
 /// The port's mode of `simulate("panda-breathing", port=...)`.
 fn port_mode(name: &str) -> PyResult<trocar_api::PortMode> {
     trocar_api::PortMode::from_name(name).ok_or_else(|| {
@@ -1463,6 +1526,7 @@ fn _trocar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_figure, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(register_port, m)?)?;
+    m.add_class::<Trajectory>()?;
     m.add_class::<PortFollower>()?;
     m.add_function(wrap_pyfunction!(shipped, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;

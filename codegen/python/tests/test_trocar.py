@@ -572,3 +572,33 @@ def test_the_port_registered_from_a_pivot_without_force():
     assert np.max(found["port_force"][after]) <= 1.0
     with pytest.raises(ValueError, match="--port estimated"):
         trocar.simulate("panda-breathing", port="registered")
+
+
+def test_trajectory_reference_as_simulate_builds_it():
+    path = str(ROOT / "examples" / "trajectories" / "panda-circle.csv")
+    tr = trocar.Trajectory.load(path)
+    rows = np.loadtxt(path, delimiter=",", comments="#", skiprows=3)
+    robot = trocar.Robot.load("panda-laparoscope")
+    q0 = [0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4]
+    pose = robot.eval(q0, what="fk")
+    r0, p0 = np.asarray(pose[:3, :3]), np.asarray(pose[:3, 3])
+    trocar_point = p0 - 0.15 * r0[:, 2]
+    # At the start the tip is where the path starts: its orientation is the start's.
+    start = tr.reference(rows[0, 0], r0, p0, trocar_point)
+    assert np.allclose(start["rotation"], r0, atol=1e-12)
+    # Between two rows: the position linear, the velocity the segment's slope.
+    k = 7
+    t = 0.25 * rows[k, 0] + 0.75 * rows[k + 1, 0]
+    mid = tr.reference(t, r0, p0, trocar_point)
+    assert np.allclose(mid["position"], 0.25 * rows[k, 1:4] + 0.75 * rows[k + 1, 1:4], atol=1e-15)
+    slope = (rows[k + 1, 1:4] - rows[k, 1:4]) / (rows[k + 1, 0] - rows[k, 0])
+    assert np.allclose(mid["velocity"], slope, atol=1e-12)
+    # The rotation stays a rotation; past the end the velocities are zero.
+    rot = np.asarray(mid["rotation"])
+    assert np.allclose(rot.T @ rot, np.eye(3), atol=1e-12)
+    after = tr.reference(rows[-1, 0] + 1.0, r0, p0, trocar_point)
+    assert np.allclose(after["velocity"], 0.0) and np.allclose(after["angular_velocity"], 0.0)
+    with pytest.raises(ValueError, match="finite"):
+        tr.reference(float("nan"), r0, p0, trocar_point)
+    with pytest.raises(ValueError):
+        trocar.Trajectory.load(str(ROOT / "examples" / "ports" / "panda-laparoscope-pivot.csv"))

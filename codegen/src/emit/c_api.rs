@@ -114,7 +114,7 @@ pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
     let functions = spec.functions.iter().map(|f| f.name.as_str());
     let fused = spec.fused.iter().map(|f| f.name.as_str());
     let controller = has_controller(spec)
-        .then_some(["controller_step", "register_port"])
+        .then_some(["controller_step", "register_port", "trajectory_reference"])
         .into_iter()
         .flatten();
     functions
@@ -259,6 +259,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
     let fused = spec.fused.iter().map(|f| fused_c(spec, f, real, &t));
     let controller = has_controller(spec).then(|| controller_step(spec, &t, rt));
     let register = has_controller(spec).then(|| register_port(spec, &t, rt));
+    let path_reference = has_controller(spec).then(|| trajectory_reference(spec, &t, rt));
     let object = has_controller(spec).then(|| super::c_controller::items(spec, &t, rt, real));
     let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
     let number_rule = has_controller(spec).then(|| {
@@ -373,6 +374,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
         #(#fused)*
         #controller
         #register
+        #path_reference
         #object
     }
 }
@@ -768,6 +770,110 @@ fn register_port(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenS
     }
 }
 
+/// `<module>_trajectory_reference`: the controller's reference along a path of rows at any
+/// time, as `trocar simulate ROBOT --trajectory` builds it (`trocar::trajectory`).
+fn trajectory_reference(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenStream {
+    let c_name = format_ident!("{}", symbol(spec, "trajectory_reference"));
+    let doc = format!(
+        " C ABI of the reference along a path (`trocar::trajectory`): `int {c_name}(const T \
+         *rows, size_t count, int orientation, T t, const T *q0, const T *q, const T *params, \
+         const T *trocar, T *out)`. `rows` holds `count` rows, each `t, x, y, z` (orientation 0), \
+         then `roll` (1) or `qw, qx, qy, qz` (2); `q0` the joints at the start (the start pose \
+         and, for a roll, its orientation), `q` the joints now (position only: the tip's current \
+         orientation), `trocar` the trocar point. `out` receives 18 values: the reference's \
+         position, orientation column-major, linear and angular velocity — what the controller \
+         step and update take. Returns 0, `C_INVALID_ARGUMENT` (a value outside the number \
+         rule, an orientation code other than 0–2, fewer than two rows, times not increasing, a \
+         quaternion of no length; nothing written), `C_NOT_FINITE` (a value written is not \
+         finite) or `C_NULL_ARGUMENT`."
+    );
+    quote! {
+        #[doc = #doc]
+        ///
+        /// # Safety
+        /// `rows` points to `count` rows of 4, 5 or 8 values (by `orientation`), `q0` and `q` to
+        /// `N` values, `params` to `PARAMS` (null when there are none), `trocar` to 3, `out` to
+        /// room for 18 overlapping no input.
+        #[unsafe(no_mangle)]
+        #[allow(clippy::too_many_arguments)]
+        pub unsafe extern "C" fn #c_name(
+            rows: *const #t,
+            count: usize,
+            orientation: i32,
+            time: #t,
+            q0: *const #t,
+            q: *const #t,
+            params: *const #t,
+            trocar: *const #t,
+            out: *mut #t,
+        ) -> i32 {
+            use #rt::emitted::nalgebra::{SVector, Vector3};
+            use #rt::emitted::{ConstrainedKinematics, FlatPath, OrientationKind, PathRows};
+            if rows.is_null() || q0.is_null() || q.is_null() || trocar.is_null() || out.is_null() {
+                return C_NULL_ARGUMENT;
+            }
+            // SAFETY: the caller's contract for `params`.
+            let Some((p, p_values)) = (unsafe { c_params(params) }) else {
+                return C_NULL_ARGUMENT;
+            };
+            let kind = match orientation {
+                0 => OrientationKind::None,
+                1 => OrientationKind::Roll,
+                2 => OrientationKind::Quaternion,
+                _ => return C_INVALID_ARGUMENT,
+            };
+            // The values of `count` rows must fit in memory (`isize::MAX` bytes).
+            let columns = FlatPath::<#t>::columns(kind);
+            let Some(len) = count.checked_mul(columns).filter(|n| {
+                n.checked_mul(::core::mem::size_of::<#t>())
+                    .is_some_and(|bytes| bytes <= isize::MAX as usize)
+            }) else {
+                return C_INVALID_ARGUMENT;
+            };
+            // SAFETY: non-null (checked above) and, by the caller's contract, `count` rows of
+            // `columns` values, `len` in all, within `isize::MAX` bytes (checked above); `q0`,
+            // `q` and `trocar` point to `N`, `N` and 3 values.
+            let (values, q0, q, trocar) = unsafe {
+                (
+                    ::core::slice::from_raw_parts(rows, len),
+                    &*q0.cast::<[#t; N]>(),
+                    &*q.cast::<[#t; N]>(),
+                    &*trocar.cast::<[#t; 3]>(),
+                )
+            };
+            let read_ok = values
+                .iter()
+                .chain(q0)
+                .chain(q)
+                .chain(trocar)
+                .chain(p_values.iter())
+                .all(|v| c_number_ok(*v))
+                && c_number_ok(time);
+            if !read_ok {
+                return C_INVALID_ARGUMENT;
+            }
+            let Some(path) = FlatPath::new(values, kind) else {
+                return C_INVALID_ARGUMENT;
+            };
+            let kin = Kinematics { params: p };
+            let (Ok(g0), Ok(now)) = (
+                kin.g_0e(&SVector::from(*q0)),
+                kin.g_0e(&SVector::from(*q)),
+            ) else {
+                return C_NOT_FINITE;
+            };
+            let r = path.reference(time, &g0, &Vector3::from(*trocar), &now.rotation);
+            // SAFETY: non-null (checked above), room for 18 values overlapping no input.
+            let out: &mut [#t; 18] = unsafe { &mut *out.cast::<[#t; 18]>() };
+            out[0..3].copy_from_slice(r.position.as_slice());
+            out[3..12].copy_from_slice(r.rotation.as_slice());
+            out[12..15].copy_from_slice(r.velocity.as_slice());
+            out[15..18].copy_from_slice(r.angular_velocity.as_slice());
+            if out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
+        }
+    }
+}
+
 /// The return codes the header `#define`s, after the module's name in upper case.
 const CODES: [(&str, i32); 10] = [
     ("NOT_FINITE", C_NOT_FINITE),
@@ -1043,6 +1149,25 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
             largest = trocar::port::LARGEST_SPREAD,
             len = C_REGISTER_PORT_LEN,
             len_macro = len_macro(&upper, "register_port"),
+        );
+    }
+    if has_controller(spec) {
+        let _ = writeln!(
+            h,
+            "/* The reference along a path at time t, as `trocar simulate ROBOT --trajectory F.csv`\n   \
+             builds it: rows[count] of t, x, y, z (orientation 0), then roll (1: about the tip's z,\n   \
+             from its start orientation, turned through the trocar) or qw, qx, qy, qz (2: base\n   \
+             frame); the position linear between rows, the velocity the segment's slope.\n   \
+             q0: the joints at the start; q: the joints now (position only: the tip's current\n   \
+             orientation); trocar[3]. out[18]: position, orientation column-major, velocity,\n   \
+             angular velocity: the reference of {m}_controller_step and _update.\n   \
+             Returns 0; {upper}_INVALID_ARGUMENT (a value not finite, subnormal or beyond\n   \
+             +-{max:e}, an orientation code other than 0-2, fewer than two rows, times not\n   \
+             increasing, a quaternion of no length; nothing written); {upper}_NOT_FINITE;\n   \
+             {upper}_NULL_ARGUMENT. */\n\
+             int {m}_trajectory_reference(const {ct} *rows, size_t count, int orientation, {ct} t,\n    \
+             const {ct} *q0, const {ct} *q, const {ct} *params, const {ct} *trocar, {ct} *out);\n",
+            max = C_MAX_MAGNITUDE,
         );
     }
     h.push_str(&super::c_controller::header(spec, real));

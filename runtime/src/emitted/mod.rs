@@ -43,6 +43,7 @@ pub use crate::control::{
 };
 pub use crate::port::{least_spread_admitted, PortError, PortRegistration};
 pub use crate::se3::Se3;
+pub use crate::trajectory::{FlatPath, OrientationKind, PathRows};
 
 /// The linear-algebra crate of the controller's types (as [`crate::nalgebra`]).
 pub use nalgebra;

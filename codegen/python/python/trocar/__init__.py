@@ -5,7 +5,8 @@ TOML file and evaluates, verifies and generates its closed-form constrained kine
 :class:`Controller` runs the constrained controller on a robot, step by step;
 :func:`simulate` runs the shipped scenarios (``"panda-breathing"``'s port fixed, known or followed
 from the wall's force); :func:`register_port` locates a port from joint positions; :class:`RunSetup` gives what a loop of one's own
-needs to replay one; :class:`Scene` steps a shipped scene of several arms in a loop of one's
+needs to replay one; :class:`Trajectory` gives the reference along a CSV path as ``trocar simulate``
+builds it; :class:`Scene` steps a shipped scene of several arms in a loop of one's
 own; :mod:`trocar.physics` runs the controller on a robot with dynamics (MuJoCo,
 ``pip install trocar[physics]``). Errors raise :class:`ValueError`
 with the command line's message.
@@ -17,6 +18,7 @@ from ._trocar import (
     Robot,
     RunSetup,
     Scene,
+    Trajectory,
     __version__,
     panda_reference,
     quantities,
@@ -32,6 +34,7 @@ __all__ = [
     "RunSetup",
     "Scene",
     "PortFollower",
+    "Trajectory",
     "write_figure",
     "simulate",
     "register_port",

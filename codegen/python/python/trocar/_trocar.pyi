@@ -176,6 +176,26 @@ class Controller:
     def reset(self) -> None:
         """Restarts the filtered inverse and the QP's warm start."""
 
+class Trajectory:
+    """A tip trajectory read from a CSV (``t,x,y,z`` and ``roll`` or ``qw,qx,qy,qz``), for a loop
+    of one's own that follows it as ``trocar simulate ROBOT --trajectory F.csv`` does."""
+
+    @staticmethod
+    def load(path: str) -> "Trajectory":
+        """Reads and checks the CSV (errors name the file, the line and the column)."""
+    def reference(
+        self,
+        t: float,
+        start_rotation: Sequence[Sequence[float]],
+        start_position: Sequence[float],
+        trocar: Sequence[float],
+    ) -> Dict[str, Any]:
+        """The controller's reference at ``t`` (s) as ``trocar simulate`` builds it: the position
+        linear between rows and its slope fed forward; a roll turned through the trocar, its
+        angular velocity by a central difference; quaternions by slerp. ``start_rotation``
+        (3 × 3) and ``start_position``: the tip's pose at the start. A dict for
+        :meth:`Controller.step` (``rotation`` is ``None`` for positions only)."""
+
 class PortFollower:
     """A port followed from the wall's force on the shaft (an admittance law): the estimate moves
     along the force across the shaft, ``compliance`` m/(N s), its rate at most ``max_rate`` m/s;
