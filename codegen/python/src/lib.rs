@@ -111,6 +111,26 @@ fn register_port<'py>(
     Ok(out)
 }
 
+/// A reference as the dict `Controller.step` takes: `position`, `rotation` (3 × 3 or `None`),
+/// `velocity`, `angular_velocity` (base frame).
+fn target_dict<'py>(py: Python<'py>, r: &trocar_api::Target) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("position", PyArray1::from_slice(py, &r.position))?;
+    match r.rotation {
+        Some(rot) => {
+            let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
+            out.set_item("rotation", rot.into_pyarray(py))?;
+        }
+        None => out.set_item("rotation", py.None())?,
+    }
+    out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
+    out.set_item(
+        "angular_velocity",
+        PyArray1::from_slice(py, &r.angular_velocity),
+    )?;
+    Ok(out)
+}
+
 /// A tip trajectory read from a CSV (`t,x,y,z` and `roll` or `qw,qx,qy,qz`), for a loop of
 /// one's own that follows it as `trocar simulate ROBOT --trajectory F.csv` does.
 #[pyclass(module = "trocar", frozen)]
@@ -156,21 +176,7 @@ impl Trajectory {
         let r = self
             .inner
             .reference_from(t, &start_rotation, &start_position, &trocar);
-        let out = PyDict::new(py);
-        out.set_item("position", PyArray1::from_slice(py, &r.position))?;
-        match r.rotation {
-            Some(rot) => {
-                let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
-                out.set_item("rotation", rot.into_pyarray(py))?;
-            }
-            None => out.set_item("rotation", py.None())?,
-        }
-        out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
-        out.set_item(
-            "angular_velocity",
-            PyArray1::from_slice(py, &r.angular_velocity),
-        )?;
-        Ok(out)
+        target_dict(py, &r)
     }
 }
 
@@ -1091,21 +1097,7 @@ impl RunSetup {
     /// `angular_velocity` (base frame), as `Controller.step` takes it.
     fn reference<'py>(&self, py: Python<'py>, t: f64) -> PyResult<Bound<'py, PyDict>> {
         let r = self.inner.reference(t).map_err(value_error)?;
-        let out = PyDict::new(py);
-        out.set_item("position", PyArray1::from_slice(py, &r.position))?;
-        match r.rotation {
-            Some(rot) => {
-                let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
-                out.set_item("rotation", rot.into_pyarray(py))?;
-            }
-            None => out.set_item("rotation", py.None())?,
-        }
-        out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
-        out.set_item(
-            "angular_velocity",
-            PyArray1::from_slice(py, &r.angular_velocity),
-        )?;
-        Ok(out)
+        target_dict(py, &r)
     }
 
     /// The true port at time `t` (s) and its velocity, `(position, velocity)` (base frame), in a
