@@ -1302,20 +1302,10 @@ fn simulate<'py>(
 /// (base frame).
 #[pyfunction]
 fn panda_reference<'py>(py: Python<'py>, t: f64) -> PyResult<Bound<'py, PyDict>> {
-    let r = trocar_api::simulate::panda_target(t).map_err(value_error)?;
-    let out = PyDict::new(py);
-    out.set_item("position", PyArray1::from_slice(py, &r.position))?;
-    let rot = r
-        .rotation
-        .unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
-    let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
-    out.set_item("rotation", rot.into_pyarray(py))?;
-    out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
-    out.set_item(
-        "angular_velocity",
-        PyArray1::from_slice(py, &r.angular_velocity),
-    )?;
-    Ok(out)
+    let mut r = trocar_api::simulate::panda_target(t).map_err(value_error)?;
+    r.rotation
+        .get_or_insert([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+    target_dict(py, &r)
 }
 
 /// A speed limit argument: omitted, `None` or a number.
