@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "panda_laparoscope.hpp"
+#include "panda_qp.hpp"
 
 namespace tp = trocar::panda_laparoscope;
 
@@ -133,21 +134,8 @@ int main() {
     tp::Point trocar{};
     for (int i = 0; i < 3; ++i) trocar[i] = p0[i] - r0[6 + i] * kTipDepth;
 
-    // The QP with the URDF's limits: ranges and speeds are the configuration's defaults (from the
-    // description); accelerations and jerks are libfranka's; the insertion bounds those of the
-    // scenario; no speed limit besides the joints' own.
-    tp::Config config = tp::default_config();
-    config.method = PANDA_LAPAROSCOPE_METHOD_QP;
-    config.max_joint_speed = 0.0;
-    const double acceleration[7] = {15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0};
-    const double jerk[7] = {7500.0, 3750.0, 5000.0, 6250.0, 7500.0, 10000.0, 10000.0};
-    for (int k = 0; k < 7; ++k) {
-        config.acceleration[k] = acceleration[k];
-        config.jerk[k] = jerk[k];
-    }
-    config.depth_limits = 1;
-    config.depth[0] = 0.05;
-    config.depth[1] = 0.30;
+    // The QP with the URDF's limits (panda_qp.hpp).
+    const tp::Config config = panda_qp_config();
     static tp::Controller controller;  // its storage: a member, no allocation
     if (controller.init(config) != tp::Status::Held) {
         std::fprintf(stderr, "the configuration was refused\n");

@@ -98,6 +98,16 @@ fn pose_into(pose: &TokenStream, offset: usize) -> TokenStream {
     }
 }
 
+/// The C type of a module's reals: `float` for an `f32` module, else `double` (a generic
+/// module's C ABI is `f64`).
+pub(crate) fn c_type(real: Real) -> &'static str {
+    if matches!(real, Real::F32) {
+        "float"
+    } else {
+        "double"
+    }
+}
+
 /// The C prefix of a module's symbols: its name.
 fn prefix(spec: &ModuleSpec) -> String {
     spec.name.clone()
@@ -122,6 +132,7 @@ pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
         .chain(controller)
         .map(|f| symbol(spec, f))
         .chain(super::c_controller::symbols(spec))
+        .chain(super::c_port::symbols(spec))
         .collect()
 }
 
@@ -208,7 +219,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
              read or written is not finite) or `C_NULL_ARGUMENT` (2); see the C header \
              (`trocar generate --c-header`).",
             name = f.name,
-            ct = if matches!(real, Real::F32) { "float" } else { "double" },
+            ct = c_type(real),
             n = f.layout.len(),
         );
         let q_check = if f.takes_joints {
@@ -261,6 +272,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
     let register = has_controller(spec).then(|| register_port(spec, &t, rt));
     let path_reference = has_controller(spec).then(|| trajectory_reference(spec, &t, rt));
     let object = has_controller(spec).then(|| super::c_controller::items(spec, &t, rt, real));
+    let port = has_controller(spec).then(|| super::c_port::items(spec, &t, rt));
     let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
     let number_rule = has_controller(spec).then(|| {
         quote! {
@@ -376,6 +388,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
         #register
         #path_reference
         #object
+        #port
     }
 }
 
@@ -443,11 +456,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Real, t: &TokenStream) ->
         }
     }
     let total_lit = Literal::usize_unsuffixed(total);
-    let ct = if matches!(real, Real::F32) {
-        "float"
-    } else {
-        "double"
-    };
+    let ct = c_type(real);
     let outputs = f
         .outputs
         .iter()
@@ -989,11 +998,7 @@ pub fn check_names(spec: &ModuleSpec) -> Result<(), crate::error::Error> {
 /// The C header of a module's C ABI ([`items`]), with its sizes as `#define`s (the macros of
 /// [`macros`]; [`check_names`] refuses a module in which two of them are the same).
 pub fn header(spec: &ModuleSpec, real: Real) -> String {
-    let ct = if matches!(real, Real::F32) {
-        "float"
-    } else {
-        "double"
-    };
+    let ct = c_type(real);
     let m = prefix(spec);
     let upper = m.to_uppercase();
     let mut h = String::new();
@@ -1171,6 +1176,7 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
         );
     }
     h.push_str(&super::c_controller::header(spec, real));
+    h.push_str(&super::c_port::header(spec, real));
     let _ = writeln!(h, "#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */");
     h
 }

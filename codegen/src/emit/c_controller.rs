@@ -11,7 +11,7 @@
 //! checked by the runtime's own rules (`ControllerConfig::check` for the gains,
 //! `HardLimits::check` for the limits) and every number by the number rule.
 
-use super::c_api::{has_controller, C_MAX_MAGNITUDE};
+use super::c_api::{c_type, has_controller, C_MAX_MAGNITUDE};
 use crate::ir::{ModuleSpec, Real};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -555,11 +555,7 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
     if !has_controller(spec) {
         return String::new();
     }
-    let ct = if matches!(real, Real::F32) {
-        "float"
-    } else {
-        "double"
-    };
+    let ct = c_type(real);
     let m = &spec.name;
     let upper = m.to_uppercase();
     let n = spec.joints;

@@ -10,7 +10,7 @@
 //! through). Nothing throws and nothing allocates: every call returns a `Status`.
 
 use super::c_api::{
-    has_controller, C_BAD_STORAGE, C_CONTROL_ERROR, C_DEPTH_OUTSIDE, C_INVALID_ARGUMENT,
+    c_type, has_controller, C_BAD_STORAGE, C_CONTROL_ERROR, C_DEPTH_OUTSIDE, C_INVALID_ARGUMENT,
     C_JOINT_OUTSIDE, C_NEAR_PARALLEL, C_NOT_FINITE, C_NULL_ARGUMENT, C_TOO_FEW_LINES,
     C_TROCAR_YIELDED,
 };
@@ -76,11 +76,7 @@ pub fn header(spec: &ModuleSpec, real: Real) -> Option<String> {
     }
     let m = &spec.name;
     let upper = m.to_uppercase();
-    let ct = if matches!(real, Real::F32) {
-        "float"
-    } else {
-        "double"
-    };
+    let ct = c_type(real);
     let mut h = String::new();
     let guard = format!("TROCAR_{upper}_HPP");
     let _ = writeln!(
@@ -140,6 +136,37 @@ pub fn header(spec: &ModuleSpec, real: Real) -> Option<String> {
          const Real *params = kNominalParams.data()) noexcept {{\n    \
          return static_cast<Status>(\n        \
          {m}_register_port(joints, poses, params, least_spread, forgetting, out.data()));\n}}\n\n\
+         /// The shaft's line at the joints q: a point and its unit direction (base frame).\n\
+         inline Status shaft_line(const Real *q, Point &point, Point &direction,\n                         \
+         const Real *params = kNominalParams.data()) noexcept {{\n    \
+         std::array<Real, 6> out{{}};\n    \
+         const auto s = static_cast<Status>({m}_shaft_line(q, params, out.data()));\n    \
+         if (s == Status::Held) {{\n        \
+         point = {{out[0], out[1], out[2]}};\n        \
+         direction = {{out[3], out[4], out[5]}};\n    }}\n    \
+         return s;\n}}\n\n\
+         /// The port's follower: the estimate moves along the wall's force across the shaft\n\
+         /// (an admittance law), its rate the trocar's velocity to feed forward. Its state is a\n\
+         /// plain member.\n\
+         class PortFollower {{\npublic:\n    \
+         /// Starts at estimate with the compliance (m/(N s)), the largest rate (m/s) and the\n    \
+         /// wall's normal (null: unknown).\n    \
+         Status init(const Point &estimate, Real compliance, Real max_rate,\n                \
+         const Point *normal = nullptr) noexcept {{\n        \
+         return static_cast<Status>({m}_port_follower_init(\n            \
+         &state_, estimate.data(), compliance, max_rate, normal != nullptr ? normal->data() : nullptr));\n    }}\n    \
+         /// One step over dt from the wall's force on the shaft at the joints q.\n    \
+         Status update(const Point &force, const Real *q, Real dt,\n                  \
+         const Real *params = kNominalParams.data()) noexcept {{\n        \
+         return static_cast<Status>(\n            \
+         {m}_port_follower_update(&state_, force.data(), q, params, dt, nullptr));\n    }}\n    \
+         /// The port's estimate.\n    \
+         Point estimate() const noexcept {{ return {{state_.estimate[0], state_.estimate[1], state_.estimate[2]}}; }}\n    \
+         /// Its rate at the last update (the trocar's velocity to feed forward).\n    \
+         Point rate() const noexcept {{ return {{state_.rate[0], state_.rate[1], state_.rate[2]}}; }}\n\n\
+         private:\n    \
+         {m}_port_follower state_{{}};\n\
+         }};\n\n\
          /// The constrained controller with its state (the last command, the QP's warm start) in\n\
          /// an aligned member: no allocation, nothing to release. Not copyable (a copy would be a\n\
          /// second controller with the same history); init before the first update.\n\

@@ -22,6 +22,7 @@
 
 pub mod c_api;
 pub mod c_controller;
+pub mod c_port;
 pub mod checks;
 pub mod controller;
 pub mod cpp_header;

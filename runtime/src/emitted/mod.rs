@@ -41,7 +41,7 @@ pub use crate::control::{
     Damping, Gains, HardLimits, Method, MethodKind, NullSpaceObjective, Rcm, Reference, Shaft,
     StepOutput, StepStatus,
 };
-pub use crate::port::{least_spread_admitted, PortError, PortRegistration};
+pub use crate::port::{least_spread_admitted, PortError, PortFollower, PortRegistration};
 pub use crate::se3::Se3;
 pub use crate::trajectory::{FlatPath, OrientationKind, PathRows};
 
