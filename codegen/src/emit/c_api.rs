@@ -212,8 +212,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
             }
             Layout::Transform => pose_into(&quote!(value), 0),
         };
-        let doc =
-            format!(
+        let doc = format!(
             " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`; \
              `out` receives {n} values (column-major). Returns 0, `C_NOT_FINITE` (1: a value \
              read or written is not finite) or `C_NULL_ARGUMENT` (2); see the C header \
