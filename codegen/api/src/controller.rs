@@ -182,8 +182,9 @@ pub(crate) fn check_gain_times_dt(name: &str, k: f64, dt: f64) -> Result<()> {
     Ok(())
 }
 
-/// How far a target's rotation matrix may be from orthonormal: the largest entry of `RᵀR − I`.
-pub const ROTATION_TOLERANCE: f64 = 1e-6;
+/// How far a target's rotation matrix may be from orthonormal: the largest entry of `RᵀR − I`
+/// (the runtime's rule, `trocar::se3::ROTATION_TOLERANCE`, the C ABI's too).
+pub const ROTATION_TOLERANCE: f64 = trocar::se3::ROTATION_TOLERANCE;
 
 /// Whether `r` (row by row) is a proper rotation: finite, `|RᵀR − I| ≤` [`ROTATION_TOLERANCE`]
 /// entry by entry and `det R > 0` (a zero matrix or a reflection would be read as some other
@@ -193,22 +194,14 @@ pub fn proper_rotation(r: &[[f64; 3]; 3]) -> std::result::Result<(), String> {
     if let Some(v) = r.iter().flatten().find(|v| !v.is_finite()) {
         return Err(format!("{v} is not a finite number"));
     }
-    let mut worst = 0.0f64;
-    for i in 0..3 {
-        for j in 0..3 {
-            let dot: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
-            worst = worst.max((dot - if i == j { 1.0 } else { 0.0 }).abs());
-        }
+    let m = nalgebra::Matrix3::from_fn(|i, j| r[i][j]);
+    if trocar::se3::is_rotation(&m) {
+        return Ok(());
     }
-    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
-        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
-        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-    if worst > ROTATION_TOLERANCE || det <= 0.0 {
-        return Err(format!(
-            "not a rotation matrix (RᵀR differs from I by {worst:.3e}, tolerance {ROTATION_TOLERANCE:e}; det R = {det:.6})"
-        ));
-    }
-    Ok(())
+    let (worst, det) = trocar::se3::rotation_defect(&m).unwrap_or((f64::NAN, f64::NAN));
+    Err(format!(
+        "not a rotation matrix (RᵀR differs from I by {worst:.3e}, tolerance {ROTATION_TOLERANCE:e}; det R = {det:.6})"
+    ))
 }
 
 /// The desired end-effector motion at one instant, in base coordinates.

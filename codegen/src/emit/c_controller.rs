@@ -471,8 +471,8 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
         ///
         /// Returns 0 (every constraint held); `C_TROCAR_YIELDED`, `C_JOINT_OUTSIDE`,
         /// `C_DEPTH_OUTSIDE` (the constraint that gave way; rates and report written);
-        /// `C_INVALID_ARGUMENT` (an input outside the number rule, `dt ≤ 0`, `K dt` beyond its
-        /// bound) or `C_CONTROL_ERROR` (no step could be computed), both with `qd` zeros and
+        /// `C_INVALID_ARGUMENT` (an input outside the number rule, an orientation that is not a
+        /// proper rotation to 1e-6, `dt ≤ 0`, `K dt` beyond its bound) or `C_CONTROL_ERROR` (no step could be computed), both with `qd` zeros and
         /// the report not written; `C_BAD_STORAGE`; `C_NULL_ARGUMENT` (nothing written).
         ///
         /// # Safety
@@ -532,6 +532,13 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
                 *qd = [0.0; N];
                 return C_INVALID_ARGUMENT;
             }
+            // The desired orientation must be a proper rotation (the runtime's rule, the command
+            // line's and Python's).
+            let target = c_reference(reference);
+            if !#rt::emitted::is_rotation(&target.rotation) {
+                *qd = [0.0; N];
+                return C_INVALID_ARGUMENT;
+            }
             let kin = Kinematics { params: p };
             let q = SVector::from(*q);
             let dv = match rate {
@@ -543,7 +550,7 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
                 dv,
             };
             let ctrl: &mut CController = &mut state.controller;
-            let result = ctrl.step(&kin, &q, &c_reference(reference), &rcm, dt);
+            let result = ctrl.step(&kin, &q, &target, &rcm, dt);
             // SAFETY: `report` is null or, by the caller's contract, room for 8 values.
             unsafe { c_write_step(result, qd, report) }
         }
@@ -623,8 +630,9 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
          l_a, |e_p|, |eps|, |e_r|, w_r, w_i, kappa_r, kappa_i.\n   \
          Returns 0 when every constraint held; {upper}_TROCAR_YIELDED, {upper}_JOINT_OUTSIDE or\n   \
          {upper}_DEPTH_OUTSIDE naming the one that gave way (qd and report written);\n   \
-         {upper}_INVALID_ARGUMENT (an input outside the number rule, dt <= 0, a gain times dt\n   \
-         beyond its bound: K_p dt < 2, K_r dt < 2, K_o dt < 4) or {upper}_CONTROL_ERROR (no step\n   \
+         {upper}_INVALID_ARGUMENT (an input outside the number rule, an orientation that is not a\n   \
+         proper rotation to 1e-6, dt <= 0, a gain times dt beyond its bound: K_p dt < 2,\n   \
+         K_r dt < 2, K_o dt < 4) or {upper}_CONTROL_ERROR (no step\n   \
          could be computed), both with qd set to zeros; {upper}_BAD_STORAGE; {upper}_NULL_ARGUMENT\n   \
          (nothing written). */\n\
          int {m}_controller_update(void *storage, const {ct} *q, const {ct} *params,\n    \

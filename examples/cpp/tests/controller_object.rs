@@ -353,6 +353,19 @@ fn what_the_rules_refuse_is_refused_with_nothing_written() {
             m::C_INVALID_ARGUMENT
         );
     }
+    // Orientations that are not proper rotations: scaled, reflected, sheared.
+    for edit in [
+        |r: &mut [f64; 18]| r[3..12].iter_mut().for_each(|v| *v *= 2.0),
+        |r: &mut [f64; 18]| r[9..12].iter_mut().for_each(|v| *v = -*v),
+        |r: &mut [f64; 18]| r[4] += 1e-3,
+    ] {
+        let mut r = reference;
+        edit(&mut r);
+        let (code, qd, report) = update(&mut s, &Q0, &r, &trocar, 0.002);
+        assert_eq!(code, m::C_INVALID_ARGUMENT);
+        assert_eq!(qd, [0.0; 7]);
+        assert!(report.iter().all(|v| v.is_nan()));
+    }
     for dt in [0.0, -0.002] {
         assert_eq!(
             update(&mut s, &Q0, &reference, &trocar, dt).0,

@@ -42,7 +42,7 @@ pub use crate::control::{
     StepOutput, StepStatus,
 };
 pub use crate::port::{least_spread_admitted, PortError, PortFollower, PortRegistration};
-pub use crate::se3::Se3;
+pub use crate::se3::{is_rotation, Se3};
 pub use crate::trajectory::{FlatPath, OrientationKind, PathRows};
 
 /// The linear-algebra crate of the controller's types (as [`crate::nalgebra`]).
