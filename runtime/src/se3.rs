@@ -421,6 +421,37 @@ impl<T: RealField + Copy> Adjoint<T> {
     }
 }
 
+/// How far `r` is from a proper rotation: the largest entry of `|RᵀR − I|` and `det R`, or
+/// `None` when an entry is not finite. A matrix is taken as a rotation where the first is within
+/// a tolerance (the command line's and the C ABI's: [`ROTATION_TOLERANCE`]) and the second is
+/// positive — a zero matrix or a reflection would be read as some other orientation.
+pub fn rotation_defect<T: RealField + Copy>(r: &Matrix3<T>) -> Option<(T, T)> {
+    if !r.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let mut worst = T::zero();
+    for i in 0..3 {
+        for j in 0..3 {
+            let dot = r[(0, i)] * r[(0, j)] + r[(1, i)] * r[(1, j)] + r[(2, i)] * r[(2, j)];
+            let target = if i == j { T::one() } else { T::zero() };
+            worst = worst.max((dot - target).abs());
+        }
+    }
+    let det = r[(0, 0)] * (r[(1, 1)] * r[(2, 2)] - r[(1, 2)] * r[(2, 1)])
+        - r[(0, 1)] * (r[(1, 0)] * r[(2, 2)] - r[(1, 2)] * r[(2, 0)])
+        + r[(0, 2)] * (r[(1, 0)] * r[(2, 1)] - r[(1, 1)] * r[(2, 0)]);
+    Some((worst, det))
+}
+
+/// The largest entry of `|RᵀR − I|` a desired orientation may have (1e-6).
+pub const ROTATION_TOLERANCE: f64 = 1e-6;
+
+/// Whether `r` is a proper rotation to [`ROTATION_TOLERANCE`] ([`rotation_defect`]).
+pub fn is_rotation<T: RealField + Copy>(r: &Matrix3<T>) -> bool {
+    let tolerance: T = nalgebra::convert(ROTATION_TOLERANCE);
+    rotation_defect(r).is_some_and(|(worst, det)| worst <= tolerance && det > T::zero())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -505,35 +536,4 @@ mod tests {
             * exp_so3(&Vector3::new(r, 0.0, 0.0));
         assert!((rotation_from_rpy(r, p, y) - m).norm() < 1e-15);
     }
-}
-
-/// How far `r` is from a proper rotation: the largest entry of `|RᵀR − I|` and `det R`, or
-/// `None` when an entry is not finite. A matrix is taken as a rotation where the first is within
-/// a tolerance (the command line's and the C ABI's: [`ROTATION_TOLERANCE`]) and the second is
-/// positive — a zero matrix or a reflection would be read as some other orientation.
-pub fn rotation_defect<T: RealField + Copy>(r: &Matrix3<T>) -> Option<(T, T)> {
-    if !r.iter().all(|v| v.is_finite()) {
-        return None;
-    }
-    let mut worst = T::zero();
-    for i in 0..3 {
-        for j in 0..3 {
-            let dot = r[(0, i)] * r[(0, j)] + r[(1, i)] * r[(1, j)] + r[(2, i)] * r[(2, j)];
-            let target = if i == j { T::one() } else { T::zero() };
-            worst = worst.max((dot - target).abs());
-        }
-    }
-    let det = r[(0, 0)] * (r[(1, 1)] * r[(2, 2)] - r[(1, 2)] * r[(2, 1)])
-        - r[(0, 1)] * (r[(1, 0)] * r[(2, 2)] - r[(1, 2)] * r[(2, 0)])
-        + r[(0, 2)] * (r[(1, 0)] * r[(2, 1)] - r[(1, 1)] * r[(2, 0)]);
-    Some((worst, det))
-}
-
-/// The largest entry of `|RᵀR − I|` a desired orientation may have (1e-6).
-pub const ROTATION_TOLERANCE: f64 = 1e-6;
-
-/// Whether `r` is a proper rotation to [`ROTATION_TOLERANCE`] ([`rotation_defect`]).
-pub fn is_rotation<T: RealField + Copy>(r: &Matrix3<T>) -> bool {
-    let tolerance: T = nalgebra::convert(ROTATION_TOLERANCE);
-    rotation_defect(r).is_some_and(|(worst, det)| worst <= tolerance && det > T::zero())
 }
