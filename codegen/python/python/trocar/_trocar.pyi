@@ -176,6 +176,46 @@ class Controller:
     def reset(self) -> None:
         """Restarts the filtered inverse and the QP's warm start."""
 
+class RunSetup:
+    """What a control loop of one's own needs to replay a run: a shipped Panda scenario's
+    (``RunSetup("panda-laparoscope")``) or a robot's along its own trajectory
+    (``RunSetup(robot_or_path, trajectory=..., q0=..., trocar=..., method=...)``, what is not
+    given taken from its description's ``[simulation]`` section)."""
+
+    def __init__(
+        self,
+        scenario: Union[str, "Robot"],
+        trajectory: Optional[str] = None,
+        q0: Optional[Sequence[float]] = None,
+        trocar: Optional[Sequence[float]] = None,
+        method: Optional[str] = None,
+    ) -> None: ...
+    @property
+    def robot(self) -> "Robot":
+        """The robot."""
+    @property
+    def q0(self) -> List[float]:
+        """The start configuration."""
+    @property
+    def trocar(self) -> Tuple[float, float, float]:
+        """The trocar (m, base frame)."""
+    @property
+    def duration(self) -> float:
+        """How long the run lasts (s)."""
+    @property
+    def controller(self) -> Dict[str, Any]:
+        """The keyword arguments of :class:`Controller` the run uses."""
+    def reference(self, t: float) -> Dict[str, Any]:
+        """The reference at time ``t`` (s), as :meth:`Controller.step` takes it."""
+    def port(self, t: float) -> Optional[Tuple[Tuple[float, float, float], Tuple[float, float, float]]]:
+        """The true port at ``t`` and its velocity where the port moves, else ``None``."""
+    @property
+    def wall_normal(self) -> Optional[Tuple[float, float, float]]:
+        """The wall's normal where the port moves along it, else ``None``."""
+    @property
+    def follower(self) -> Optional[Tuple[float, float]]:
+        """``(time_constant, max_rate)`` of the run's :class:`PortFollower`, where the port moves."""
+
 class Trajectory:
     """A tip trajectory read from a CSV (``t,x,y,z`` and ``roll`` or ``qw,qx,qy,qz``), for a loop
     of one's own that follows it as ``trocar simulate ROBOT --trajectory F.csv`` does."""
