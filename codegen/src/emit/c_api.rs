@@ -75,9 +75,8 @@ pub const C_BAD_STORAGE: i32 = 10;
 /// The number of values `<module>_register_port` writes: the port (3), its covariance
 /// column-major (9), the residual, the lines' spread.
 pub const C_REGISTER_PORT_LEN: usize = 14;
-/// The largest magnitude `<module>_controller_step` accepts for any value it reads: the number
-/// rule of every number trocar takes from a user (`trocar_model::validity::MAX_MAGNITUDE`).
-pub const C_MAX_MAGNITUDE: f64 = trocar_model::validity::MAX_MAGNITUDE;
+pub use super::c_abi::C_MAX_MAGNITUDE;
+use super::c_abi::{c_type, has_controller};
 
 /// A pose `(R, p)` (the expression `pose`) into `out` from `offset`: `R` column-major, then `p`;
 /// literal ranges, the layout every C function writes a pose in.
@@ -95,16 +94,6 @@ fn pose_into(pose: &TokenStream, offset: usize) -> TokenStream {
         out[#r1].copy_from_slice(&#pose.0[1]);
         out[#r2].copy_from_slice(&#pose.0[2]);
         out[#rp].copy_from_slice(&#pose.1);
-    }
-}
-
-/// The C type of a module's reals: `float` for an `f32` module, else `double` (a generic
-/// module's C ABI is `f64`).
-pub(crate) fn c_type(real: Real) -> &'static str {
-    if matches!(real, Real::F32) {
-        "float"
-    } else {
-        "double"
     }
 }
 
@@ -134,12 +123,6 @@ pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
         .chain(super::c_controller::symbols(spec))
         .chain(super::c_port::symbols(spec))
         .collect()
-}
-
-/// Whether the module has `Kinematics` (a constraint frame that slides along its link), and so
-/// `<module>_controller_step` and `<module>_register_port`.
-pub(crate) fn has_controller(spec: &ModuleSpec) -> bool {
-    spec.controller.as_ref().is_some_and(|c| c.offset.is_some())
 }
 
 /// The `extern "C"` items inside the module, for the real type `real`.

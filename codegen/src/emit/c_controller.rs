@@ -11,7 +11,7 @@
 //! checked by the runtime's own rules (`ControllerConfig::check` for the gains,
 //! `HardLimits::check` for the limits) and every number by the number rule.
 
-use super::c_api::{c_type, has_controller, C_MAX_MAGNITUDE};
+use super::c_abi::{c_type, has_controller, C_MAX_MAGNITUDE};
 use crate::ir::{ModuleSpec, Real};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};

@@ -3,7 +3,7 @@
 //! (`trocar::port::PortFollower`, the admittance law (R2) that moves the port's estimate along
 //! the wall's lateral force), its state a plain struct `<module>_port_follower` the caller owns.
 
-use super::c_api::{c_type, has_controller};
+use super::c_abi::{c_type, has_controller};
 use crate::ir::{ModuleSpec, Real};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

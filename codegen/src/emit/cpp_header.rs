@@ -9,10 +9,10 @@
 //! or on plain pointers (so an `Eigen::Map` or a `std::span`'s `data()` passes straight
 //! through). Nothing throws and nothing allocates: every call returns a `Status`.
 
+use super::c_abi::{c_type, has_controller};
 use super::c_api::{
-    c_type, has_controller, C_BAD_STORAGE, C_CONTROL_ERROR, C_DEPTH_OUTSIDE, C_INVALID_ARGUMENT,
-    C_JOINT_OUTSIDE, C_NEAR_PARALLEL, C_NOT_FINITE, C_NULL_ARGUMENT, C_TOO_FEW_LINES,
-    C_TROCAR_YIELDED,
+    C_BAD_STORAGE, C_CONTROL_ERROR, C_DEPTH_OUTSIDE, C_INVALID_ARGUMENT, C_JOINT_OUTSIDE,
+    C_NEAR_PARALLEL, C_NOT_FINITE, C_NULL_ARGUMENT, C_TOO_FEW_LINES, C_TROCAR_YIELDED,
 };
 use crate::ir::{ModuleSpec, Real};
 use std::fmt::Write as _;

@@ -20,6 +20,7 @@
 //! (`a[col][row]`), exactly nalgebra's `ArrayStorage`, so
 //! `SMatrix::<T, rows, cols>::from_data(ArrayStorage(a))` is free.
 
+mod c_abi;
 pub mod c_api;
 pub mod c_controller;
 pub mod c_port;
