@@ -128,11 +128,8 @@ pub trait PathRows<T: RealField + Copy> {
                 (Some(rot), w)
             }
             OrientationKind::Quaternion => {
-                let unit = |q: [T; 4]| {
-                    UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]))
-                };
-                let qa = unit(self.quaternion(k));
-                let qb = unit(self.quaternion(k + 1));
+                let qa = unit_quaternion(self.quaternion(k));
+                let qb = unit_quaternion(self.quaternion(k + 1));
                 let q = qa.slerp(&qb, s);
                 // ω = axis · angle / span, in the base frame.
                 let w = if inside {
@@ -159,8 +156,11 @@ pub trait PathRows<T: RealField + Copy> {
         let (position, rotation, velocity, angular_velocity) = self.at(t, &g0.rotation);
         match self.orientation() {
             OrientationKind::Roll => {
-                let rolled = |t: T| self.rolled_through(t, g0, trocar);
-                let r = rolled(t);
+                let rolled = |t: T| {
+                    let (position, rotation, _, _) = self.at(t, &g0.rotation);
+                    turned_through(&position, rotation, g0, trocar)
+                };
+                let r = turned_through(&position, rotation, g0, trocar);
                 let h: T = nalgebra::convert(1e-6);
                 let two: T = nalgebra::convert(2.0);
                 let half: T = nalgebra::convert(0.5);
@@ -184,27 +184,37 @@ pub trait PathRows<T: RealField + Copy> {
             },
         }
     }
+}
 
-    /// The rolled orientation at `t` turned through the trocar (see the [module](self)).
-    fn rolled_through(&self, t: T, g0: &Se3<T>, trocar: &Vector3<T>) -> Matrix3<T> {
-        let (position, rotation, _, _) = self.at(t, &g0.rotation);
-        let r = rotation.unwrap_or(g0.rotation);
-        let tiny: T = nalgebra::convert(1e-12);
-        let (Some(a), Some(b)) = (
-            (g0.translation - trocar).try_normalize(tiny),
-            (position - trocar).try_normalize(tiny),
-        ) else {
-            return r;
-        };
-        let axis = a.cross(&b);
-        let sin = axis.norm();
-        if sin == T::zero() {
-            return r;
-        }
-        let align =
-            Rotation3::from_axis_angle(&Unit::new_unchecked(axis / sin), sin.atan2(a.dot(&b)));
-        align.matrix() * r
+/// The unit quaternion of `(w, x, y, z)` (normalised).
+pub fn unit_quaternion<T: RealField + Copy>(q: [T; 4]) -> UnitQuaternion<T> {
+    UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]))
+}
+
+/// A rolled orientation `rotation` (the start's where `None`) at the desired tip `position`,
+/// turned by the smallest rotation that takes the direction from the trocar to the start tip
+/// onto the direction from the trocar to `position` (see the [module](self)).
+fn turned_through<T: RealField + Copy>(
+    position: &Vector3<T>,
+    rotation: Option<Matrix3<T>>,
+    g0: &Se3<T>,
+    trocar: &Vector3<T>,
+) -> Matrix3<T> {
+    let r = rotation.unwrap_or(g0.rotation);
+    let tiny: T = nalgebra::convert(1e-12);
+    let (Some(a), Some(b)) = (
+        (g0.translation - trocar).try_normalize(tiny),
+        (position - trocar).try_normalize(tiny),
+    ) else {
+        return r;
+    };
+    let axis = a.cross(&b);
+    let sin = axis.norm();
+    if sin == T::zero() {
+        return r;
     }
+    let align = Rotation3::from_axis_angle(&Unit::new_unchecked(axis / sin), sin.atan2(a.dot(&b)));
+    align.matrix() * r
 }
 
 /// A path as one flat table, row after row (a C caller's array, a CSV's numbers): `t, x, y, z`,

@@ -13,7 +13,7 @@ use crate::robot::Robot;
 use crate::simulate::SimulationRun;
 use nalgebra::{Matrix3, Vector3};
 use std::path::{Path, PathBuf};
-use trocar::trajectory::{OrientationKind, PathRows};
+use trocar::trajectory::{unit_quaternion, OrientationKind, PathRows};
 use trocar_model::description::SimulationDesc;
 use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 
@@ -316,7 +316,9 @@ impl Trajectory {
             let turn = match &self.orientation {
                 Orientation::None => 0.0,
                 Orientation::Roll(r) => (r[k + 1] - r[k]).abs(),
-                Orientation::Quaternion(q) => unit(q[k + 1]).angle_to(&unit(q[k])),
+                Orientation::Quaternion(q) => {
+                    unit_quaternion(q[k + 1]).angle_to(&unit_quaternion(q[k]))
+                }
             } / span;
             if turn.is_nan() || turn > MAX_REFERENCE_ANGULAR_SPEED {
                 return Err(Error::Input(format!(
@@ -393,10 +395,6 @@ impl Trajectory {
             }
         }
     }
-}
-
-fn unit(q: [f64; 4]) -> nalgebra::UnitQuaternion<f64> {
-    nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
 }
 
 impl Trajectory {
