@@ -265,6 +265,12 @@ pub struct Derivation {
     /// Each joint's speed limit `|q̇| ≤ v` (rad/s or m/s), base first, from the description (a
     /// URDF joint's `velocity`, `speed_limit = v`); `None` for a joint without.
     pub joint_speed_limits: Vec<Option<f64>>,
+    /// Each joint's acceleration limit (rad/s² or m/s²), base first, from the description (a
+    /// URDF 1.2 joint's `acceleration`, `acceleration_limit = a`); `None` for a joint without.
+    pub joint_acceleration_limits: Vec<Option<f64>>,
+    /// Each joint's jerk limit (rad/s³ or m/s³), base first (a URDF 1.2 joint's `jerk`,
+    /// `jerk_limit = j`); `None` for a joint without.
+    pub joint_jerk_limits: Vec<Option<f64>>,
 }
 
 /// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
@@ -757,6 +763,8 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
         joint_limits: desc.joints.iter().map(|j| j.limits).collect(),
         joint_ranges: desc.joints.iter().map(|j| j.limits).collect(),
         joint_speed_limits: desc.joints.iter().map(|j| j.speed_limit).collect(),
+        joint_acceleration_limits: desc.joints.iter().map(|j| j.acceleration_limit).collect(),
+        joint_jerk_limits: desc.joints.iter().map(|j| j.jerk_limit).collect(),
     })
 }
 

@@ -17,6 +17,7 @@
 //! Everything is `no_std` and allocation-free: the module uses `core` and the runtime's
 //! `emitted` surface only.
 
+use crate::emit::c_scene::SceneC;
 use crate::emit::Runtime;
 use crate::error::Error;
 use crate::ir::Real;
@@ -51,6 +52,55 @@ struct Parts {
     doc: String,
     arms: Vec<TokenStream>,
     rest: TokenStream,
+    /// With the C ABI: the scene's C object and its arms' headers and symbols.
+    c: Option<SceneCParts>,
+}
+
+/// A scene's C ABI beyond its module's code.
+struct SceneCParts {
+    scene: SceneC,
+    /// Each distinct arm module's C and C++ headers: `(file name, text)`.
+    headers: Vec<(String, String)>,
+    /// Every C symbol the scene's library exports.
+    symbols: Vec<String>,
+}
+
+/// A scene's module with its C ABI ([`crate::Builder::c_api`]): the module's code, and its
+/// headers — each arm module's `<arm>.h` and `<arm>.hpp`, and the scene's `<scene>.h` and
+/// `<scene>.hpp` ([`crate::emit::c_scene`]) — as `(file name, text)`, and every C symbol it
+/// exports.
+pub struct SceneCFiles {
+    /// The module (`<scene>.rs`).
+    pub code: String,
+    /// The headers: `(file name, text)`.
+    pub headers: Vec<(String, String)>,
+    /// Every C symbol the module exports.
+    pub symbols: Vec<String>,
+}
+
+/// The scene's module with its C ABI and its headers ([`SceneCFiles`]); `options.c_api` is
+/// taken as on.
+pub fn generate_scene_c(
+    scene: &SceneDescription,
+    options: &ModuleOptions,
+) -> Result<SceneCFiles, Error> {
+    let options = ModuleOptions {
+        c_api: true,
+        ..options.clone()
+    };
+    let (code, c) = generate_scene_parts_string(scene, &options)?;
+    let c = c.ok_or_else(|| Error::Internal("the scene's C ABI was not emitted".into()))?;
+    let mut headers = c.headers;
+    headers.push((format!("{}.h", c.scene.name), c.scene.header(options.real)));
+    headers.push((
+        format!("{}.hpp", c.scene.name),
+        c.scene.cpp_header(options.real),
+    ));
+    Ok(SceneCFiles {
+        code,
+        headers,
+        symbols: c.symbols,
+    })
 }
 
 /// `threads`: each distinct arm derived on a thread of its own (not inside a procedural macro).
@@ -104,7 +154,6 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
         description_files: Vec::new(),
         evidence: None,
         checks: None,
-        c_api: false,
         ..options.clone()
     };
     let specs = if threads {
@@ -128,6 +177,66 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
             .map(|(name, desc)| spec_for(desc, &arm_options(name)))
             .collect::<Result<Vec<_>, Error>>()?
     };
+    // The C ABI: each arm module's headers and symbols (checked distinct), and what the scene's
+    // C object is emitted from.
+    let mut c_parts = None;
+    if options.c_api {
+        let mut headers = Vec::new();
+        let mut symbols: Vec<String> = Vec::new();
+        for ((name, _), spec) in modules.iter().zip(&specs) {
+            crate::module::c_api_names(spec)?;
+            headers.push((
+                format!("{name}.h"),
+                crate::emit::c_api::header(spec, options.real),
+            ));
+            if let Some(cpp) = crate::emit::cpp_header::header(spec, options.real) {
+                headers.push((format!("{name}.hpp"), cpp));
+            }
+            for symbol in crate::emit::c_api::symbols(spec) {
+                if symbols.contains(&symbol) {
+                    return Err(Error::CSymbolClash {
+                        symbol,
+                        modules: (modules[0].0.clone(), name.clone()),
+                    });
+                }
+                symbols.push(symbol);
+            }
+        }
+        let spec = &specs[0];
+        let c_name =
+            crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
+        let camera = scene.arms.iter().position(|arm| arm.camera.is_some());
+        let task_rows = Literal::usize_unsuffixed(scene.arms[0].robot.task_rows());
+        let c_scene = SceneC {
+            name: c_name,
+            arm_modules: arm_module.iter().map(|&k| modules[k].0.clone()).collect(),
+            config_fields: crate::emit::c_controller::config_fields(spec),
+            arm_size: crate::emit::c_controller::size_bound(spec, options.real),
+            joints: spec.joints,
+            task_rows: quote!(#task_rows),
+            couplings: scene
+                .couplings
+                .iter()
+                .map(|c| [c.influence, c.safety, c.gain])
+                .collect(),
+            weights: [scene.orientation_weight, scene.rate_weight],
+            camera,
+        };
+        for symbol in c_scene.symbols() {
+            if symbols.contains(&symbol) {
+                return Err(Error::CSymbolClash {
+                    symbol,
+                    modules: (modules[0].0.clone(), c_scene.name.clone()),
+                });
+            }
+            symbols.push(symbol);
+        }
+        c_parts = Some(SceneCParts {
+            scene: c_scene,
+            headers,
+            symbols,
+        });
+    }
     let mut items = Vec::with_capacity(modules.len());
     for ((name, desc), spec) in modules.iter().zip(specs) {
         if spec
@@ -380,6 +489,7 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
     };
     let (orientation_weight, rate_weight) = (lit(scene.orientation_weight), lit(scene.rate_weight));
     let doc = scene_doc(scene, &modules);
+    let c_items = c_parts.as_ref().map(|c| c.scene.items(options.real, rt));
     let kin_values = &kin_values;
     let rest = quote! {
         /// The arms, in the scene's order.
@@ -486,6 +596,7 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
         }
 
         #camera
+        #c_items
     };
     let name = crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
     Ok(Parts {
@@ -493,6 +604,7 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
         doc,
         arms: items,
         rest,
+        c: c_parts,
     })
 }
 
@@ -506,17 +618,26 @@ pub fn generate_scene_string(
     scene: &SceneDescription,
     options: &ModuleOptions,
 ) -> Result<String, Error> {
+    generate_scene_parts_string(scene, options).map(|(code, _)| code)
+}
+
+/// [`generate_scene_string`], with the scene's C ABI beyond its code where it has one.
+fn generate_scene_parts_string(
+    scene: &SceneDescription,
+    options: &ModuleOptions,
+) -> Result<(String, Option<SceneCParts>), Error> {
     const MARK: &str = "const TROCAR_ARM_MODULES: () = ();";
     let parts = parts(scene, options, true)?;
     if parts.arms.len() == 1 {
         // One arm module: formatted whole (no thread to share it with).
         let (items, rest) = (&parts.arms, &parts.rest);
-        return crate::emit::format_file(crate::emit::wrap_module(
+        let code = crate::emit::format_file(crate::emit::wrap_module(
             &parts.name,
             &parts.doc,
             quote!(#(#items)* #rest),
         ))
-        .map_err(|e| Error::Internal(e.to_string()));
+        .map_err(|e| Error::Internal(e.to_string()))?;
+        return Ok((code, parts.c));
     }
     let mark: TokenStream = MARK.parse().map_err(|e| Error::Internal(format!("{e}")))?;
     let rest = &parts.rest;
@@ -577,7 +698,7 @@ pub fn generate_scene_string(
             "the scene module's place for its arms was not found".into(),
         ));
     }
-    Ok(out)
+    Ok((out, parts.c))
 }
 
 /// `three_ports` → `ThreePorts`.

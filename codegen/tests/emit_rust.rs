@@ -140,6 +140,8 @@ fn small_module() -> ModuleSpec {
         joint_limits: None,
         joint_ranges: Vec::new(),
         joint_speed_limits: Vec::new(),
+        joint_acceleration_limits: Vec::new(),
+        joint_jerk_limits: Vec::new(),
         pose_and_jacobians: None,
         fused: Vec::new(),
         fma_at_run_time: false,

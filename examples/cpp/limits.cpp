@@ -19,52 +19,10 @@
 #include <vector>
 
 #include "panda_laparoscope.hpp"
+#include "counting_malloc.hpp"
 #include "panda_qp.hpp"
 
 namespace tp = trocar::panda_laparoscope;
-
-// A counting interposer on the C allocator: while `counting` is set, every allocation through
-// malloc, calloc, realloc or the aligned allocators (what Rust's standard library calls) is
-// counted, so the program can show that the controller's update allocates nothing.
-namespace {
-bool counting = false;
-unsigned long allocations = 0;
-}  // namespace
-
-extern "C" {
-void *__libc_malloc(std::size_t);
-void *__libc_calloc(std::size_t, std::size_t);
-void *__libc_realloc(void *, std::size_t);
-void *__libc_memalign(std::size_t, std::size_t);
-
-void *malloc(std::size_t size) {
-    if (counting) ++allocations;
-    return __libc_malloc(size);
-}
-void *calloc(std::size_t n, std::size_t size) {
-    if (counting) ++allocations;
-    return __libc_calloc(n, size);
-}
-void *realloc(void *p, std::size_t size) {
-    if (counting) ++allocations;
-    return __libc_realloc(p, size);
-}
-void *aligned_alloc(std::size_t alignment, std::size_t size) {
-    if (counting) ++allocations;
-    return __libc_memalign(alignment, size);
-}
-void *memalign(std::size_t alignment, std::size_t size) {
-    if (counting) ++allocations;
-    return __libc_memalign(alignment, size);
-}
-int posix_memalign(void **out, std::size_t alignment, std::size_t size) {
-    if (counting) ++allocations;
-    void *p = __libc_memalign(alignment, size);
-    if (p == nullptr) return 12;  // ENOMEM
-    *out = p;
-    return 0;
-}
-}
 
 namespace {
 
@@ -111,16 +69,10 @@ tp::Reference reference(double t, const std::array<double, 9> &r0, const std::ar
 }  // namespace
 
 int main() {
-    // The interposer counts: one allocation made on purpose is seen.
-    counting = true;
-    void *probe = std::malloc(16);
-    counting = false;
-    std::free(probe);
-    if (allocations != 1) {
-        std::fprintf(stderr, "the allocation counter does not count (%lu)\n", allocations);
+    if (!counting_malloc_counts()) {
+        std::fprintf(stderr, "the allocation counter does not count\n");
         return 1;
     }
-    allocations = 0;
     tp::Joints q = {0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4};
     std::array<double, 12> g0e{};
     if (panda_laparoscope_forward_kinematics(q.data(), tp::kNominalParams.data(), g0e.data()) != 0) {

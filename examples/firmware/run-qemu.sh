@@ -25,7 +25,8 @@ if ! rustup target list --installed | grep -qx "$target"; then
 fi
 mkdir -p "$out"
 # The reference tables of the Panda's runs, from the scenarios' own paths (host).
-cargo run -q -p trocar-panda --example qemu_references -- "$out"
+cargo build -q --workspace --example qemu_references
+"${CARGO_TARGET_DIR:-target}/debug/examples/qemu_references" "$out"
 # The programs (the crate's .cargo/config.toml selects the target and the linker script).
 (cd examples/firmware/qemu &&
   TROCAR_QEMU_REFERENCES="$root/$out" cargo build -q --release --target-dir "$root/target/thumb")
@@ -37,21 +38,17 @@ for program in firmware panda; do
     -kernel "$elf/$program" > "$out/$program.txt"
   grep '^summary' "$out/$program.txt"
 done
-# Against the host: every step's rates bit for bit, the joints against the f64 run.
-check() {
-  local log="$out/$1-check.txt"
-  shift
-  if ! env "$@" > "$log" 2>&1; then
-    cat "$log" >&2
-    echo "error: the QEMU run differs from the host's (above)" >&2
-    exit 1
-  fi
-  grep -E '^(firmware|panda) ' "$log"
-}
-check firmware TROCAR_QEMU_OUTPUT="$root/$out/firmware.txt" \
-  cargo test -q -p trocar-firmware --test matches_qemu -- --ignored --nocapture
-check panda TROCAR_QEMU_OUTPUT="$root/$out/panda.txt" TROCAR_QEMU_REFERENCES="$root/$out" \
-  cargo test -q -p trocar-panda --test matches_qemu -- --ignored --nocapture
+# Against the host: every step's rates bit for bit, the joints against the f64 run (both tests,
+# in the workspace's own test build).
+log="$out/check.txt"
+if ! TROCAR_QEMU_FIRMWARE_OUTPUT="$root/$out/firmware.txt" \
+  TROCAR_QEMU_PANDA_OUTPUT="$root/$out/panda.txt" TROCAR_QEMU_REFERENCES="$root/$out" \
+  cargo test -q --workspace --test matches_qemu -- --ignored --nocapture > "$log" 2>&1; then
+  cat "$log" >&2
+  echo "error: the QEMU run differs from the host's (above)" >&2
+  exit 1
+fi
+grep -E '^(firmware|panda) ' "$log"
 # Flash (text + data) and static RAM (data + bss) of each program; the Panda's includes its
 # reference tables (read-only data, not part of a controller).
 if command -v arm-none-eabi-size >/dev/null; then

@@ -13,7 +13,10 @@
 //!
 //! The library is the generated module with its C ABI in a `staticlib` crate over the `trocar`
 //! runtime — from this source tree where the command line was built in one, else from the
-//! registry — built with `cargo build --release` (cargo must be on the `PATH`).
+//! registry — built with `cargo build --release` (cargo must be on the `PATH`), in `DIR/crate/target`
+//! or, where `CARGO_TARGET_DIR` is set, there (the packages of several robots then share one build
+//! of the runtime). A scene's package ([`cmake_scene_package`]) holds the scene's C object and its
+//! arms' C ABIs, with the scene's and the arms' headers.
 
 use crate::error::{Error, Result};
 use crate::Robot;
@@ -61,6 +64,46 @@ pub fn cmake_package(
     let cpp = robot.cpp_header(&options)?;
     let code = robot.generate(&options)?;
     let module = trocar_codegen::module_name(robot.name());
+    let headers = vec![
+        (format!("{module}.h"), header),
+        (format!("{module}.hpp"), cpp),
+    ];
+    write_package(&module, &code, &headers, dir, progress)
+}
+
+/// The package of a scene's C ABI in `dir` (`trocar generate SCENE --cmake DIR`): its library
+/// holds the scene's C object and each arm module's C ABI; its headers are the scene's
+/// `<scene>.h`, `<scene>.hpp` and each arm module's. As [`cmake_package`] otherwise.
+pub fn cmake_scene_package(
+    scene: &trocar_model::scene::SceneDescription,
+    real: crate::Real,
+    dir: &Path,
+    progress: &mut dyn FnMut(&str),
+) -> Result<String> {
+    let options = crate::ModuleOptions {
+        real,
+        ..Default::default()
+    };
+    progress(&format!(
+        "deriving the closed forms of the scene `{}` ({} arms)",
+        scene.name,
+        scene.arms.len()
+    ));
+    let files = trocar_codegen::scene::generate_scene_c(scene, &options)?;
+    let module = trocar_codegen::module_name(&scene.name);
+    write_package(&module, &files.code, &files.headers, dir, progress)
+}
+
+/// Writes the package of the module `module` (its code `code`, its headers `(file, text)`) into
+/// `dir`: the crate of its static library, built with cargo, the library, the headers and the
+/// CMake and pkg-config files.
+fn write_package(
+    module: &str,
+    code: &str,
+    headers: &[(String, String)],
+    dir: &Path,
+    progress: &mut dyn FnMut(&str),
+) -> Result<String> {
     let package = format!("trocar_{module}");
     let dir = if dir.is_absolute() {
         dir.to_path_buf()
@@ -101,7 +144,12 @@ pub fn cmake_package(
     )?;
     write_file(&crate_dir.join(format!("{module}.rs")), code.as_bytes())?;
     progress(&format!("building lib{package}.a with cargo (release)"));
-    let target = crate_dir.join("target");
+    // The crate's own target directory, unless CARGO_TARGET_DIR names one (shared by the
+    // packages of several robots: the runtime built once).
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .unwrap_or_else(|| crate_dir.join("target"));
     let output = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
         .args(["rustc", "--release", "--quiet", "--manifest-path"])
         .arg(crate_dir.join("Cargo.toml"))
@@ -132,14 +180,9 @@ pub fn cmake_package(
     let bytes =
         std::fs::read(&built).map_err(|e| Error::Output(format!("{}: {e}", built.display())))?;
     write_file(&dir.join("lib").join(&library), &bytes)?;
-    write_file(
-        &dir.join("include").join(format!("{module}.h")),
-        header.as_bytes(),
-    )?;
-    write_file(
-        &dir.join("include").join(format!("{module}.hpp")),
-        cpp.as_bytes(),
-    )?;
+    for (file, text) in headers {
+        write_file(&dir.join("include").join(file), text.as_bytes())?;
+    }
     let links: Vec<String> = native
         .iter()
         .filter_map(|l| l.strip_prefix("-l"))

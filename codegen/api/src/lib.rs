@@ -38,7 +38,7 @@ pub mod scene;
 pub mod simulate;
 mod trajectory;
 
-pub use cmake::cmake_package;
+pub use cmake::{cmake_package, cmake_scene_package};
 pub use controller::{
     proper_rotation, ControllerOptions, RobotController, Step, Target, ROTATION_TOLERANCE,
     SUPPORTED,

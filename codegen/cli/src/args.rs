@@ -52,7 +52,9 @@ pub enum Command {
         /// headers, the static library (built with cargo, release), and
         /// `lib/cmake/trocar_<module>/trocar_<module>Config.cmake`, so that
         /// `find_package(trocar_<module>)` and `target_link_libraries(... trocar::<module>)`
-        /// work. `--real f32` for a `float` ABI (default: `double`).
+        /// work. For a scene, the scene's C object (`<scene>_scene_init`, `_update`, ...) with
+        /// its arms' C ABI, and the scene's and the arms' headers. `--real f32` for a `float`
+        /// ABI (default: `double`).
         #[arg(long, value_name = "DIR")]
         cmake: Option<PathBuf>,
         /// Also emit a function computing several outputs in one program, e.g.

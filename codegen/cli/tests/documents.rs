@@ -203,6 +203,11 @@ fn run(binary: &Path, command: &DocCommand) -> Result<(), String> {
     let out = Command::new(binary)
         .args(&args)
         .current_dir(&dir)
+        // The packages of `--cmake` share one cargo target directory: the runtime built once.
+        .env(
+            "CARGO_TARGET_DIR",
+            Path::new(env!("CARGO_TARGET_TMPDIR")).join("documents-cmake"),
+        )
         .output()
         .map_err(|e| format!("{shown}: {e}"))?;
     let result = if !out.status.success() {

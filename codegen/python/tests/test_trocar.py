@@ -574,6 +574,34 @@ def test_the_port_registered_from_a_pivot_without_force():
         trocar.simulate("panda-breathing", port="registered")
 
 
+def test_a_loop_of_ones_own_reproduces_simulate_along_a_trajectory():
+    """Controller.step with Trajectory.reference, stepped as trocar simulate steps (t = k dt, then
+    q += dt qd), gives simulate(robot, trajectory=...)'s joints at every row to rounding: what a
+    user's loop needs of trocar is these two calls."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    path = str(ROOT / "examples" / "trajectories" / "panda-circle.csv")
+    q0 = [0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4]
+    trace = trocar.simulate(robot, trajectory=path, q0=q0)
+    setup = trocar.RunSetup(robot, trajectory=path, q0=q0)
+    controller = trocar.Controller(robot, **setup.controller)
+    path_reference = trocar.Trajectory.load(path)
+    pose = robot.eval(q0, what="fk")
+    r0, p0 = np.asarray(pose[:3, :3]), np.asarray(pose[:3, 3])
+    t = trace["t"]
+    dt = t[1] - t[0]
+    q = np.array(q0, dtype=float)
+    worst = 0.0
+    for k in range(len(t)):
+        row = np.array([trace[f"q{j + 1}"][k] for j in range(7)])
+        worst = max(worst, float(np.max(np.abs(q - row))))
+        reference = path_reference.reference(k * dt, r0, p0, setup.trocar)
+        out = controller.step(q, reference, setup.trocar, dt)
+        assert out["status"] == "Held", (k, out["status"])
+        q = q + np.asarray(out["qd"]) * dt
+    assert len(t) > 100
+    assert worst <= 1e-12, worst
+
+
 def test_trajectory_reference_as_simulate_builds_it():
     path = str(ROOT / "examples" / "trajectories" / "panda-circle.csv")
     tr = trocar.Trajectory.load(path)

@@ -72,6 +72,10 @@ pub const C_DEPTH_OUTSIDE: i32 = 9;
 /// Return code of the controller object: its storage is too small, misaligned, or was not
 /// written by this module's `init`.
 pub const C_BAD_STORAGE: i32 = 10;
+/// Return code of a scene's update (`<scene>_scene_update`): a coupling between two arms could
+/// not hold within the ports and the joint limits; the rates written keep the ports and the
+/// limits, the couplings relaxed as little as they could be.
+pub const C_COUPLING_YIELDED: i32 = 11;
 /// The number of values `<module>_register_port` writes: the port (3), its covariance
 /// column-major (9), the residual, the lines' spread.
 pub const C_REGISTER_PORT_LEN: usize = 14;
@@ -261,7 +265,7 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
             /// The number rule of every number trocar takes from a C caller: finite, not
             /// subnormal, within ±1e6.
             #[inline]
-            fn c_number_ok(v: #t) -> bool {
+            pub(crate) fn c_number_ok(v: #t) -> bool {
                 v.is_finite() && v.abs() <= #max && (v == 0.0 || v.abs() >= #t::MIN_POSITIVE)
             }
 
@@ -274,33 +278,19 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
             ///
             /// # Safety
             /// `report` is null or points to room for 8 values that overlap nothing else.
-            unsafe fn c_write_step(
+            pub(crate) unsafe fn c_write_step(
                 result: Result<#rt::emitted::StepOutput<#t, N, R>, #rt::emitted::ControlError>,
                 qd: &mut [#t; N],
                 report: *mut #t,
             ) -> i32 {
-                use #rt::emitted::{ControlError, StepStatus};
                 let out = match result {
                     Ok(out) => out,
                     Err(e) => {
                         *qd = [0.0; N];
-                        return match e {
-                            // Negative gains, `K dt` at or beyond its stable bound.
-                            ControlError::Config(_) => C_INVALID_ARGUMENT,
-                            _ => C_CONTROL_ERROR,
-                        };
+                        return c_error_code(e);
                     }
                 };
-                let values = [
-                    out.l_a,
-                    out.ep.norm(),
-                    out.eq.eps.norm(),
-                    out.lateral_error.norm(),
-                    out.w_r,
-                    out.w_i,
-                    out.kappa_r,
-                    out.kappa_i,
-                ];
+                let values = c_step_report(&out);
                 if !(out.qd.iter().all(|v| v.is_finite()) && values.iter().all(|v| v.is_finite())) {
                     *qd = [0.0; N];
                     return C_CONTROL_ERROR;
@@ -310,7 +300,39 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
                     // SAFETY: non-null, room for 8 values by the caller's contract.
                     unsafe { report.cast::<[#t; 8]>().write(values) };
                 }
-                match out.status {
+                c_status_code(out.status)
+            }
+
+            /// The C return code of a step that failed: `C_INVALID_ARGUMENT` for a configuration
+            /// refused at this `dt` (negative gains, `K dt` at or beyond its stable bound),
+            /// `C_CONTROL_ERROR` otherwise.
+            pub(crate) fn c_error_code(e: #rt::emitted::ControlError) -> i32 {
+                match e {
+                    #rt::emitted::ControlError::Config(_) => C_INVALID_ARGUMENT,
+                    _ => C_CONTROL_ERROR,
+                }
+            }
+
+            /// The 8 values of a step's report: `l_a`, `|e_p|`, `|ε̃|`, `|e_r|`, `w_r`, `w_i`,
+            /// `κ_r`, `κ_i`.
+            pub(crate) fn c_step_report(out: &#rt::emitted::StepOutput<#t, N, R>) -> [#t; 8] {
+                [
+                    out.l_a,
+                    out.ep.norm(),
+                    out.eq.eps.norm(),
+                    out.lateral_error.norm(),
+                    out.w_r,
+                    out.w_i,
+                    out.kappa_r,
+                    out.kappa_i,
+                ]
+            }
+
+            /// The C return code of a step's status: 0 when every constraint held, else the one
+            /// that gave way.
+            pub(crate) fn c_status_code(status: #rt::emitted::StepStatus) -> i32 {
+                use #rt::emitted::StepStatus;
+                match status {
                     StepStatus::Held => 0,
                     StepStatus::TrocarYielded => C_TROCAR_YIELDED,
                     StepStatus::JointOutside => C_JOINT_OUTSIDE,
@@ -318,9 +340,41 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
                 }
             }
 
+            /// A C object's state in the caller's `storage` (a controller's, a scene's), if its
+            /// `init` wrote it there: non-null, aligned to `align`, and starting with the
+            /// object's identity `magic` (the state is `#[repr(C)]` with its `magic: u64` first).
+            ///
+            /// # Safety
+            /// `S` is `#[repr(C)]` with a `u64` first; `storage` is null or points to at least
+            /// `size_of::<S>()` initialised bytes (written by `init`, or zeroed) that no other
+            /// reference aliases.
+            pub(crate) unsafe fn c_object<'a, S>(
+                storage: *mut ::core::ffi::c_void,
+                align: usize,
+                magic: u64,
+            ) -> Result<&'a mut S, i32> {
+                if storage.is_null() {
+                    return Err(C_NULL_ARGUMENT);
+                }
+                if (storage as usize) & (align - 1) != 0 || align < ::core::mem::align_of::<S>() {
+                    return Err(C_BAD_STORAGE);
+                }
+                // SAFETY: non-null, aligned for `S` (checked above) and, by the caller's
+                // contract, at least `size_of::<S>()` bytes; the identity, the first field at
+                // offset 0, is read as plain bytes (any value is a valid `u64`) before the rest
+                // is trusted.
+                let found = unsafe { storage.cast::<u64>().read() };
+                if found != magic {
+                    return Err(C_BAD_STORAGE);
+                }
+                // SAFETY: the identity says `init` wrote a whole `S` here; the caller's
+                // contract excludes aliasing.
+                Ok(unsafe { &mut *storage.cast::<S>() })
+            }
+
             /// The reference of a C caller's 18 values: the tip's position, orientation
             /// column-major, linear and angular feed-forward velocities.
-            fn c_reference(v: &[#t; 18]) -> #rt::emitted::Reference<#t> {
+            pub(crate) fn c_reference(v: &[#t; 18]) -> #rt::emitted::Reference<#t> {
                 use #rt::emitted::nalgebra::{Matrix3, Vector3};
                 #rt::emitted::Reference {
                     position: Vector3::new(v[0], v[1], v[2]),
@@ -362,6 +416,9 @@ pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
         /// C return code of the controller object: its storage is too small, misaligned, or
         /// not written by this module's `init`.
         pub const C_BAD_STORAGE: i32 = 10;
+        /// C return code of a scene's update: a coupling between two arms could not hold within
+        /// the ports and the joint limits.
+        pub const C_COUPLING_YIELDED: i32 = 11;
         #read_params
         #number_rule
         #(#fns)*
@@ -567,6 +624,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
          null) 8 values: `l_a`, `|e_p|`, `|ε̃|`, the lateral offset of the trocar from the link \
          `|e_r|`, `w_r`, `w_i`, `κ_r`, `κ_i`.\n\n\
          Every value read follows the number rule (finite, not subnormal, within ±1e6), `dt > 0`, \
+         the orientation is a proper rotation (`|RᵀR − I| ≤ 1e-6` entrywise, `det R > 0`), \
          and the gains pass `ControllerConfig::check` (`K_p`, `K_o`, `K_r`, `α0`, `w0` \
          non-negative, `K_p dt < 2`, `K_r dt < 2`, `K_o dt < 4`). Returns 0 (every constraint \
          held), `C_TROCAR_YIELDED` (5: the trocar could not be held within the joint limits; \
@@ -644,6 +702,12 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             #objective
             let mut ctrl = ctrl;
             let reference = c_reference(target);
+            // The desired orientation must be a proper rotation (the runtime's rule, the
+            // controller object's, the command line's and Python's).
+            if !#rt::emitted::is_rotation(&reference.rotation) {
+                *qd = [0.0; N];
+                return C_INVALID_ARGUMENT;
+            }
             let rcm = Rcm {
                 trocar: Vector3::new(trocar[0], trocar[1], trocar[2]),
                 dv: SVector::<#t, R>::zeros(),
@@ -866,7 +930,7 @@ fn trajectory_reference(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) ->
 }
 
 /// The return codes the header `#define`s, after the module's name in upper case.
-const CODES: [(&str, i32); 10] = [
+const CODES: [(&str, i32); 11] = [
     ("NOT_FINITE", C_NOT_FINITE),
     ("NULL_ARGUMENT", C_NULL_ARGUMENT),
     ("CONTROL_ERROR", C_CONTROL_ERROR),
@@ -877,6 +941,7 @@ const CODES: [(&str, i32); 10] = [
     ("NEAR_PARALLEL", C_NEAR_PARALLEL),
     ("DEPTH_OUTSIDE", C_DEPTH_OUTSIDE),
     ("BAD_STORAGE", C_BAD_STORAGE),
+    ("COUPLING_YIELDED", C_COUPLING_YIELDED),
 ];
 
 /// The header's include guard.
@@ -1094,8 +1159,9 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
              URDF's velocity){ranges}.\n   \
              report[8] (or NULL): l_a, |e_p|, |eps|, |e_r| (trocar's lateral offset from the\n   \
              link), w_r, w_i, kappa_r, kappa_i.\n   \
-             Every value read must be finite, not subnormal and within +-{max:e}; dt > 0; K_p, K_o,\n   \
-             K_r, alpha0 and the w0 >= 0; K_p dt < 2, K_r dt < 2, K_o dt < 4.\n   \
+             Every value read must be finite, not subnormal and within +-{max:e}; dt > 0; R a\n   \
+             proper rotation to 1e-6 (|R^T R - I| entrywise, det R > 0); K_p, K_o, K_r, alpha0\n   \
+             and the w0 >= 0; K_p dt < 2, K_r dt < 2, K_o dt < 4.\n   \
              Returns 0 when every constraint held;\n   \
              {upper}_TROCAR_YIELDED when the trocar could not be held within the joint limits\n     \
              (qd and report written: the best rates within the limits; the link leaves the\n     \

@@ -82,7 +82,7 @@ fn defaults(spec: &ModuleSpec, real: Real) -> Vec<(&'static str, f64, &'static s
 /// A bound on the state's size (bytes) from the module's sizes: its real numbers, counted
 /// generously (the controller's matrices are at most `P × M`, `R × I`, `N × N` and vectors of
 /// `N`), and its flags and indices.
-fn size_bound(spec: &ModuleSpec, real: Real) -> usize {
+pub(crate) fn size_bound(spec: &ModuleSpec, real: Real) -> usize {
     let c = spec
         .controller
         .as_ref()
@@ -98,10 +98,31 @@ fn size_bound(spec: &ModuleSpec, real: Real) -> usize {
     total.div_ceil(ALIGN) * ALIGN
 }
 
+/// The fields of `<module>_config` (`CControllerConfig`), in their order.
+pub(crate) fn config_fields(spec: &ModuleSpec) -> Vec<&'static str> {
+    let mut fields = vec!["method"];
+    fields.extend(defaults(spec, Real::F64).iter().map(|(f, _, _)| *f));
+    fields.extend([
+        "lower",
+        "upper",
+        "speed",
+        "acceleration",
+        "jerk",
+        "depth_limits",
+        "depth",
+    ]);
+    fields
+}
+
 /// An identity of the module for its storage (FNV-1a of its name): `update` refuses storage
 /// that this module's `init` did not write.
-fn magic(spec: &ModuleSpec) -> u64 {
-    spec.name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+pub(crate) fn magic(spec: &ModuleSpec) -> u64 {
+    fnv1a(&spec.name)
+}
+
+/// FNV-1a of `name`: the identity a C object's storage carries.
+pub(crate) fn fnv1a(name: &str) -> u64 {
+    name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
         (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
     })
 }
@@ -202,17 +223,15 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
     };
     let lower: Vec<_> = (0..spec.joints).map(|k| range(k, 0)).collect();
     let upper: Vec<_> = (0..spec.joints).map(|k| range(k, 1)).collect();
-    let speeds: Vec<_> = (0..spec.joints)
-        .map(|k| {
-            let v = spec
-                .joint_speed_limits
-                .get(k)
-                .copied()
-                .flatten()
-                .unwrap_or(0.0);
-            Literal::f64_unsuffixed(v)
-        })
-        .collect();
+    // Each joint's limit from the description, 0 (none) where it has none.
+    let per_joint = |limits: &[Option<f64>]| -> Vec<Literal> {
+        (0..spec.joints)
+            .map(|k| Literal::f64_unsuffixed(limits.get(k).copied().flatten().unwrap_or(0.0)))
+            .collect()
+    };
+    let speeds = per_joint(&spec.joint_speed_limits);
+    let accelerations = per_joint(&spec.joint_acceleration_limits);
+    let jerks = per_joint(&spec.joint_jerk_limits);
     let methods = METHODS.map(|(_, code)| Literal::i32_unsuffixed(code));
     let [pinv, dls, fi, qp] = methods;
     quote! {
@@ -250,15 +269,16 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
 
         impl #config_ty {
             /// The defaults: DLS, the gains of the header's `DEFAULT_*`, the module's joint
-            /// ranges and speed limits, no acceleration, jerk or insertion limits.
+            /// ranges and its joints' speed, acceleration and jerk limits (0, none, where the
+            /// description has none), no insertion limits.
             pub const DEFAULT: Self = #config_ty {
                 method: #dls,
                 #( #scalar_fields: #default_values, )*
                 lower: [#(#lower),*],
                 upper: [#(#upper),*],
                 speed: [#(#speeds),*],
-                acceleration: [0.0; N],
-                jerk: [0.0; N],
+                acceleration: [#(#accelerations),*],
+                jerk: [#(#jerks),*],
                 depth_limits: 0,
                 depth: [0.0; 2],
             };
@@ -266,7 +286,7 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
             /// The runtime's controller for this configuration, or the C return code that
             /// refuses it: every number by the number rule, the method by its code, the gains
             /// by `ControllerConfig::check`, the limits by `HardLimits::check`.
-            fn controller(&self) -> Result<CController, i32> {
+            pub(crate) fn controller(&self) -> Result<CController, i32> {
                 use #rt::emitted::{Gains, HardLimits, MethodKind, NullSpaceObjective};
                 use #rt::emitted::nalgebra::SVector;
                 let scalars = [#(self.#scalar_fields),*];
@@ -362,23 +382,9 @@ pub fn items(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream, real: Real) -
         /// `storage` is null or points to `C_CONTROLLER_SIZE` initialised bytes (written by
         /// `init`, or zeroed), aligned, that no other reference aliases.
         unsafe fn c_state<'a>(storage: *mut ::core::ffi::c_void) -> Result<&'a mut CControllerState, i32> {
-            if storage.is_null() {
-                return Err(C_NULL_ARGUMENT);
-            }
-            if (storage as usize) & (C_CONTROLLER_ALIGN - 1) != 0 {
-                return Err(C_BAD_STORAGE);
-            }
-            let state = storage.cast::<CControllerState>();
-            // SAFETY: non-null, aligned (checked above) and, by the caller's contract,
-            // `C_CONTROLLER_SIZE ≥ size_of::<CControllerState>()` bytes; the identity is read
-            // as plain bytes (any value is a valid `u64`) before the rest is trusted.
-            let magic = unsafe { ::core::ptr::addr_of!((*state).magic).read() };
-            if magic != C_CONTROLLER_MAGIC {
-                return Err(C_BAD_STORAGE);
-            }
-            // SAFETY: the identity says `init` wrote a whole `CControllerState` here; the
-            // caller's contract excludes aliasing.
-            Ok(unsafe { &mut *state })
+            // SAFETY: `CControllerState` is `#[repr(C)]` with its `magic: u64` first, at most
+            // `C_CONTROLLER_SIZE` bytes (asserted above); the rest is the caller's contract.
+            unsafe { c_object(storage, C_CONTROLLER_ALIGN, C_CONTROLLER_MAGIC) }
         }
 
         /// C ABI: fills `config` with the defaults (`CControllerConfig::DEFAULT`). Returns 0,
@@ -607,9 +613,9 @@ pub fn header(spec: &ModuleSpec, real: Real) -> String {
         h,
         "    {ct} lower[{n}]; /* each joint's range, lower bound (default: the description's) */\n    \
          {ct} upper[{n}]; /* upper bound */\n    \
-         {ct} speed[{n}]; /* each joint's own speed limit (rad/s; 0: none) */\n    \
-         {ct} acceleration[{n}]; /* acceleration limit (rad/s^2; 0: none) */\n    \
-         {ct} jerk[{n}]; /* jerk limit (rad/s^3; 0: none) */\n    \
+         {ct} speed[{n}]; /* each joint's own speed limit (rad/s; 0: none; default: the description's) */\n    \
+         {ct} acceleration[{n}]; /* acceleration limit (rad/s^2; 0: none; default: the description's) */\n    \
+         {ct} jerk[{n}]; /* jerk limit (rad/s^3; 0: none; default: the description's) */\n    \
          int depth_limits; /* 1: the insertion bounds below apply */\n    \
          {ct} depth[2]; /* [l_min, l_max] of the trocar's offset along the shaft (m) */\n\
          }} {m}_config;\n\n\

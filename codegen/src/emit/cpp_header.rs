@@ -11,14 +11,15 @@
 
 use super::c_abi::{c_type, has_controller};
 use super::c_api::{
-    C_BAD_STORAGE, C_CONTROL_ERROR, C_DEPTH_OUTSIDE, C_INVALID_ARGUMENT, C_JOINT_OUTSIDE,
-    C_NEAR_PARALLEL, C_NOT_FINITE, C_NULL_ARGUMENT, C_TOO_FEW_LINES, C_TROCAR_YIELDED,
+    C_BAD_STORAGE, C_CONTROL_ERROR, C_COUPLING_YIELDED, C_DEPTH_OUTSIDE, C_INVALID_ARGUMENT,
+    C_JOINT_OUTSIDE, C_NEAR_PARALLEL, C_NOT_FINITE, C_NULL_ARGUMENT, C_TOO_FEW_LINES,
+    C_TROCAR_YIELDED,
 };
 use crate::ir::{ModuleSpec, Real};
 use std::fmt::Write as _;
 
 /// The `Status` enumerators and their codes.
-const STATUS: [(&str, i32, &str); 11] = [
+const STATUS: [(&str, i32, &str); 12] = [
     ("Held", 0, "every constraint held (or: the call succeeded)"),
     (
         "NotFinite",
@@ -65,6 +66,11 @@ const STATUS: [(&str, i32, &str); 11] = [
         "BadStorage",
         C_BAD_STORAGE,
         "the controller's storage is not one init wrote",
+    ),
+    (
+        "CouplingYielded",
+        C_COUPLING_YIELDED,
+        "a scene's coupling could not hold within the ports and the limits",
     ),
 ];
 

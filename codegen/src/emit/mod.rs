@@ -10,7 +10,8 @@
 //! - [`controller`]: the control step's items in a constrained robot's module
 //!   (`StepKinematics`, `step_kinematics`, `Kinematics`, `Controller`), written by [`rust`].
 //! - [`c_api`]: the C ABI (`extern "C"` functions) and its header; [`c_controller`], the
-//!   stateful controller object within it; [`cpp_header`], the C++ header over them.
+//!   stateful controller object within it; [`cpp_header`], the C++ header over them;
+//!   [`c_scene`], a scene's C object and its C and C++ headers.
 //! - [`checks`]: the module's checks and its evidence.
 //! - `doc`: the `#[doc]` attributes of emitted items, written alike by the Rust backend and the
 //!   controller glue.
@@ -24,6 +25,7 @@ mod c_abi;
 pub mod c_api;
 pub mod c_controller;
 pub mod c_port;
+pub mod c_scene;
 pub mod checks;
 pub mod controller;
 pub mod cpp_header;

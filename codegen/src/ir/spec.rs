@@ -289,6 +289,11 @@ pub struct ModuleSpec {
     /// Each joint's speed limit (rad/s or m/s), `None` for a joint without: the C controller
     /// step keeps it (`emit::c_api`). Empty when no joint has one.
     pub joint_speed_limits: Vec<Option<f64>>,
+    /// Each joint's acceleration limit, `None` for a joint without: the default of the C
+    /// controller object's configuration (`emit::c_controller`). Empty for a mechanism.
+    pub joint_acceleration_limits: Vec<Option<f64>>,
+    /// Each joint's jerk limit, as [`Self::joint_acceleration_limits`].
+    pub joint_jerk_limits: Vec<Option<f64>>,
     /// A constrained robot's `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` as one program (outputs in that
     /// order), when it is smaller than their four functions: `pose_and_jacobians_trig` is then
     /// written from it, otherwise it calls the four.

@@ -146,6 +146,8 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         joint_limits: None,
         joint_ranges: Vec::new(),
         joint_speed_limits: Vec::new(),
+        joint_acceleration_limits: Vec::new(),
+        joint_jerk_limits: Vec::new(),
         pose_and_jacobians: None,
         fused: Vec::new(),
         fma_at_run_time: false,

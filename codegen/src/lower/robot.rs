@@ -275,6 +275,8 @@ pub fn module_spec_with(
         joint_limits: d.joint_limits.clone(),
         joint_ranges: d.joint_ranges.clone(),
         joint_speed_limits: d.joint_speed_limits.clone(),
+        joint_acceleration_limits: d.joint_acceleration_limits.clone(),
+        joint_jerk_limits: d.joint_jerk_limits.clone(),
         pose_and_jacobians,
         fused,
         fma_at_run_time: false,

@@ -2,7 +2,9 @@
 //! ordinary inputs near the Panda's working pose (joints near `Q0`, anywhere in, at or beyond
 //! their ranges; the trocar on, near or far off the shaft; targets near the tip; gains from 0 to
 //! beyond their stable bound; `dt` from 1 µs to 0.1 s) with hostile values in random slots (NaN,
-//! ±∞, ±1e300, subnormals, −0, ±1e6 and just beyond) and, now and then, a null pointer.
+//! ±∞, ±1e300, subnormals, −0, ±1e6 and just beyond) and, now and then, a null pointer; the
+//! target's orientation the tip's, turned a little (a rotation), or any nine numbers (refused:
+//! not a proper rotation).
 //!
 //! The property, for every case: the function returns (a panic across `extern "C"` would abort
 //! the test), the code is the one the inputs call for — `NULL_ARGUMENT` with nothing written,
@@ -163,6 +165,27 @@ fn accepted(c: &Case) -> bool {
         && g[0] * c.dt < 2.0
         && g[1] * c.dt < 4.0
         && g[2] * c.dt < 2.0
+        && proper_rotation(&c.target[3..12])
+}
+
+/// Whether the target's orientation (column-major) is a proper rotation to 1e-6: every entry of
+/// `RᵀR − I` within 1e-6 and `det R > 0` (the header's rule, computed here on its own).
+fn proper_rotation(r: &[f64]) -> bool {
+    let column = |c: usize| [r[3 * c], r[3 * c + 1], r[3 * c + 2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let orthonormal = (0..3).all(|i| {
+        (0..3).all(|j| {
+            let target = if i == j { 1.0 } else { 0.0 };
+            (dot(column(i), column(j)) - target).abs() <= 1e-6
+        })
+    });
+    let (x, y, z) = (column(0), column(1), column(2));
+    let cross = [
+        y[1] * z[2] - y[2] * z[1],
+        y[2] * z[0] - y[0] * z[2],
+        y[0] * z[1] - y[1] * z[0],
+    ];
+    orthonormal && dot(x, cross) > 0.0
 }
 
 /// The point of the link at `l_a` along the shaft (the constraint frame's origin) and the
@@ -409,9 +432,11 @@ fn strategy(limits: [(f64, f64, f64); 7]) -> impl Strategy<Value = Case> {
         2 => prop::array::uniform3(-0.1..0.1),
         1 => prop::array::uniform3(-1.0..1.0),
     ];
+    // The target's orientation: the tip's, the tip's turned by up to 0.1 rad about any axis (a
+    // rotation), or any entries (almost never a rotation: refused).
     let rotation = prop_oneof![
         3 => Just(None),
-        1 => prop::array::uniform9(-0.05..0.05).prop_map(|d| Some((d, false))),
+        1 => prop::array::uniform3(-0.05..0.05).prop_map(|w| Some((turn(w), false))),
         1 => prop::array::uniform9(-2.0..2.0).prop_map(|d| Some((d, true))),
     ];
     let velocity = prop_oneof![
@@ -475,10 +500,19 @@ fn strategy(limits: [(f64, f64, f64); 7]) -> impl Strategy<Value = Case> {
                     target[r] = te[r] + position[r];
                 }
                 target[3..12].copy_from_slice(re.as_flattened());
-                if let Some((d, any)) = rotation {
-                    for (k, d) in d.iter().enumerate() {
-                        target[3 + k] = if any { *d } else { target[3 + k] + d };
+                match rotation {
+                    Some((d, true)) => target[3..12].copy_from_slice(&d),
+                    Some((turned, false)) => {
+                        // `R_e · turn`, column-major.
+                        let re = re.as_flattened();
+                        for c in 0..3 {
+                            for r in 0..3 {
+                                target[3 + 3 * c + r] =
+                                    (0..3).map(|k| re[3 * k + r] * turned[3 * c + k]).sum();
+                            }
+                        }
                     }
+                    None => {}
                 }
                 target[12..].copy_from_slice(&velocity);
                 // The gains' bounds at dt (at 2 ms when dt is not a usable sample time).
@@ -510,6 +544,27 @@ fn strategy(limits: [(f64, f64, f64); 7]) -> impl Strategy<Value = Case> {
                 c
             },
         )
+}
+
+/// The rotation `exp([w]×)` (Rodrigues), column-major.
+fn turn(w: [f64; 3]) -> [f64; 9] {
+    let angle = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let (s, c) = angle.sin_cos();
+    let (a, b) = if angle > 0.0 {
+        (s / angle, (1.0 - c) / (angle * angle))
+    } else {
+        (1.0, 0.5)
+    };
+    let k = [[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]];
+    let mut out = [0.0; 9];
+    for col in 0..3 {
+        for row in 0..3 {
+            let k2: f64 = (0..3).map(|m| k[row][m] * k[m][col]).sum();
+            let identity = if row == col { 1.0 } else { 0.0 };
+            out[3 * col + row] = identity + a * k[row][col] + b * k2;
+        }
+    }
+    out
 }
 
 /// Runs `cases` random cases; the count of each return code.

@@ -6,7 +6,7 @@
 //! Ignored by default: it needs QEMU's output. `run-qemu.sh` runs it as
 //!
 //! ```text
-//! TROCAR_QEMU_OUTPUT=target/qemu/firmware.txt \
+//! TROCAR_QEMU_FIRMWARE_OUTPUT=target/qemu/firmware.txt \
 //!     cargo test -p trocar-firmware --test matches_qemu -- --ignored --nocapture
 //! ```
 
@@ -18,7 +18,8 @@ use trocar_firmware::Tuning;
 #[test]
 #[ignore = "needs QEMU's output: examples/firmware/run-qemu.sh"]
 fn qemu_run_matches_the_host() {
-    let output = std::env::var("TROCAR_QEMU_OUTPUT").expect("TROCAR_QEMU_OUTPUT: QEMU's log");
+    let output = std::env::var("TROCAR_QEMU_FIRMWARE_OUTPUT")
+        .expect("TROCAR_QEMU_FIRMWARE_OUTPUT: QEMU's log of the firmware");
     let text = std::fs::read_to_string(&output).unwrap();
     let mut logged = Vec::new();
     for line in text.lines() {

@@ -6,7 +6,7 @@
 //! Ignored by default: it needs QEMU's output. `run-qemu.sh` runs it as
 //!
 //! ```text
-//! TROCAR_QEMU_OUTPUT=target/qemu/panda.txt TROCAR_QEMU_REFERENCES=target/qemu \
+//! TROCAR_QEMU_PANDA_OUTPUT=target/qemu/panda.txt TROCAR_QEMU_REFERENCES=target/qemu \
 //!     cargo test -p trocar-panda --test matches_qemu -- --ignored --nocapture
 //! ```
 
@@ -85,7 +85,8 @@ fn compare(
 #[test]
 #[ignore = "needs QEMU's output: examples/firmware/run-qemu.sh"]
 fn qemu_run_matches_the_host() {
-    let output = std::env::var("TROCAR_QEMU_OUTPUT").expect("TROCAR_QEMU_OUTPUT: QEMU's log");
+    let output = std::env::var("TROCAR_QEMU_PANDA_OUTPUT")
+        .expect("TROCAR_QEMU_PANDA_OUTPUT: QEMU's log of the Panda");
     let dir = std::env::var("TROCAR_QEMU_REFERENCES").expect("TROCAR_QEMU_REFERENCES");
     let text = std::fs::read_to_string(&output).unwrap();
     let read = |file: &str| std::fs::read(std::path::Path::new(&dir).join(file)).unwrap();

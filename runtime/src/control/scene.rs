@@ -82,6 +82,22 @@ pub struct Coupling<T> {
     pub damper: Damper<T>,
 }
 
+impl<T: RealField + Copy> Coupling<T> {
+    /// Whether the damper is one a scene takes: safety `d_s ≥ 0`, gain `ξ ≥ 0` and influence
+    /// `d_i > d_s`, all finite — or all three 0, a coupling switched off (it never acts).
+    pub fn is_admissible(&self) -> bool {
+        let Damper {
+            influence,
+            safety,
+            gain,
+        } = self.damper;
+        let zero = T::zero();
+        let finite = influence.is_finite() && safety.is_finite() && gain.is_finite();
+        let off = influence == zero && safety == zero && gain == zero;
+        finite && (off || (safety >= zero && gain >= zero && influence > safety))
+    }
+}
+
 /// A joint two arms share (a torso, a column): its rate must be the same in both (S6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SharedJoint {
@@ -365,10 +381,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                     || s.joints.0 >= N
                     || s.joints.1 >= N
             })
-            || self
-                .couplings
-                .iter()
-                .any(|c| c.arms.0 >= A || c.arms.1 >= A || c.arms.0 == c.arms.1)
+            || !self.couplings_fit(A)
         {
             return Err(SceneError::Sizes);
         }
@@ -614,6 +627,91 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             status: solution.status,
         })
     }
+}
+
+impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene<T, P, NS, C> {
+    /// Whether every coupling is between two different arms of a scene of `arms` arms.
+    fn couplings_fit(&self, arms: usize) -> bool {
+        self.couplings
+            .iter()
+            .all(|c| c.arms.0 < arms && c.arms.1 < arms && c.arms.0 != c.arms.1)
+    }
+
+    /// Each coupling's distance (m) at the arms' joints `q`, as [`Scene::step`] measures it
+    /// (the shafts from their ports, the `rcms`' trocars, to their tips, or the tips alone, in
+    /// the scene's frame), without stepping: what a loop monitors between steps.
+    ///
+    /// # Errors
+    /// [`SceneError::Sizes`] for a coupling that names an arm not in the scene;
+    /// [`SceneError::Arm`] where an arm's forward kinematics failed.
+    pub fn distances<
+        Kin: ConstrainedKinematics<T, N, I, R, K, M, Q>,
+        const A: usize,
+        const N: usize,
+        const I: usize,
+        const R: usize,
+        const K: usize,
+        const M: usize,
+        const Q: usize,
+    >(
+        &self,
+        kins: &[Kin; A],
+        q: &[SVector<T, N>; A],
+        rcms: &[Rcm<T, R>; A],
+        bases: &[Se3<T>; A],
+    ) -> Result<[T; P], SceneError> {
+        if !self.couplings_fit(A) {
+            return Err(SceneError::Sizes);
+        }
+        let mut tips = [Vector3::zeros(); A];
+        for k in 0..A {
+            let g = kins[k].g_0e(&q[k]).map_err(|e| SceneError::Arm(k, e))?;
+            tips[k] = bases[k].transform_point(&g.translation);
+        }
+        let ports: [Vector3<T>; A] =
+            core::array::from_fn(|k| bases[k].transform_point(&rcms[k].trocar));
+        let mut out = [T::zero(); P];
+        for (d, c) in out.iter_mut().zip(&self.couplings) {
+            *d = coupling_distance(c.between, &ports, &tips, c.arms.0, c.arms.1).distance;
+        }
+        Ok(out)
+    }
+}
+
+/// The point a [`Camera`] looks at: the mean of the tips of the arms `looks_at` (their forward
+/// kinematics at `q`, placed by `bases` in the scene's frame), in the base frame of the arm
+/// `camera` (where its camera's reference is taken).
+///
+/// # Errors
+/// [`SceneError::Sizes`] where `looks_at` is empty or an index is not an arm of the scene;
+/// [`SceneError::Arm`] where an arm's forward kinematics failed.
+pub fn camera_point<
+    T: RealField + Copy,
+    Kin: ConstrainedKinematics<T, N, I, R, K, M, Q>,
+    const A: usize,
+    const N: usize,
+    const I: usize,
+    const R: usize,
+    const K: usize,
+    const M: usize,
+    const Q: usize,
+>(
+    kins: &[Kin; A],
+    q: &[SVector<T, N>; A],
+    bases: &[Se3<T>; A],
+    looks_at: &[usize],
+    camera: usize,
+) -> Result<Vector3<T>, SceneError> {
+    if looks_at.is_empty() || camera >= A || looks_at.iter().any(|&k| k >= A) {
+        return Err(SceneError::Sizes);
+    }
+    let mut sum = Vector3::zeros();
+    for &k in looks_at {
+        let g = kins[k].g_0e(&q[k]).map_err(|e| SceneError::Arm(k, e))?;
+        sum += bases[k].transform_point(&g.translation);
+    }
+    let count: T = nalgebra::convert(looks_at.len() as f64);
+    Ok(bases[camera].inverse().transform_point(&(sum / count)))
 }
 
 /// The distance of a coupling between arms `a` and `b` with its witnesses: the segments from

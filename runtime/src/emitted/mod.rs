@@ -34,7 +34,7 @@ pub mod paired_rows;
 pub use real::{Arith, Real};
 
 pub use crate::control::scene::{
-    Between, Camera, Coupling, Scene, SceneError, SceneOutput, SharedJoint,
+    camera_point, Between, Camera, Coupling, Scene, SceneError, SceneOutput, SharedJoint,
 };
 pub use crate::control::{
     ConstrainedKinematics, ConstrainedState, ControlError, Controller, ControllerConfig, Damper,

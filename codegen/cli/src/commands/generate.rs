@@ -50,16 +50,24 @@ pub(crate) fn run(
                 "--cmake DIR writes the headers and the library into DIR: give it alone".into(),
             ));
         }
-        let robot = Robot::load(robot)?;
         if fma_at_run_time || !functions.is_empty() {
             return Err(Error::Input(
                 "--cmake packages the module's C ABI as it is: no --function or --fma-at-run-time"
                     .into(),
             ));
         }
-        let package = crate::progress::with_stages("--cmake", |stage| {
-            trocar_api::cmake_package(&robot, real, dir, stage)
-        })?;
+        let package = match trocar_api::load_scene(robot)? {
+            // A scene's package: the scene's C object and its arms' C ABI.
+            Some(scene) => crate::progress::with_stages("--cmake", |stage| {
+                trocar_api::cmake_scene_package(&scene, real, dir, stage)
+            })?,
+            None => {
+                let robot = Robot::load(robot)?;
+                crate::progress::with_stages("--cmake", |stage| {
+                    trocar_api::cmake_package(&robot, real, dir, stage)
+                })?
+            }
+        };
         eprintln!(
             "wrote {}: find_package({package}) and target_link_libraries(... trocar::{})",
             dir.display(),
@@ -102,7 +110,8 @@ pub(crate) fn run(
     if let Some(scene) = trocar_api::load_scene(robot)? {
         if c_header.is_some() || header_to_stdout || cpp_header.is_some() || cpp_to_stdout {
             return Err(Error::Unsupported(format!(
-                "`{}` is a scene: the C and C++ headers are written for single robots",
+                "`{}` is a scene: its C and C++ headers (the scene's and its arms') and its \
+                 library are written together by --cmake DIR",
                 scene.name
             )));
         }

@@ -23,10 +23,10 @@
 use crate::closed_chain::{MechanismTrace, Panel};
 use crate::plot::view3d::{ArmModel, ArmPose};
 use nalgebra::{SVector, Vector3};
-use trocar::control::scene::{Camera, Coupling, Scene, SceneError, SceneOutput};
+use trocar::control::scene::{camera_point, Camera, Coupling, Scene, SceneError, SceneOutput};
 use trocar::control::{
-    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damper, HardLimits,
-    Method, QpWeights, Rcm, Reference,
+    ChainKinematics, ConstrainedKinematics, Controller, Damper, Gains, HardLimits, MethodKind, Rcm,
+    Reference,
 };
 use trocar::distance::segment_distance;
 use trocar::se3::Se3;
@@ -76,18 +76,22 @@ pub fn panda() -> Result<(Kin, HardLimits<f64, 7>), SceneRunError> {
     Ok((kin, limits))
 }
 
-/// The scene's controller of one arm: the QP step (`κ = 0.01`) with `K_p = K_o = K_r = 10`
-/// and `limits`.
+/// The scene's controller of one arm: the QP step (`κ = 0.01`, the task's variable damping at
+/// its defaults) with `K_p = K_o = K_r = 10` and `limits` — the configuration a C or C++ loop
+/// gives each arm of the scene's C object (`Gains::config`, as the C ABI maps it).
 pub fn controller(limits: HardLimits<f64, 7>) -> Ctrl {
-    Ctrl::new(ControllerConfig {
+    let gains = Gains {
         kp: 10.0,
         ko: 10.0,
-        method: Method::Qp(QpWeights::with_kappa(0.01)),
-        jb0i_damping: None,
         kr: 10.0,
+        dls_alpha0: 0.05,
+        dls_w0_task: 1e-3,
+        dls_w0_jb0i: 0.01,
+        fi_gamma: 5.0,
+        qp_kappa: 0.01,
         max_joint_speed: None,
-    })
-    .with_limits(limits)
+    };
+    Ctrl::new(gains.config(MethodKind::Qp)).with_limits(limits)
 }
 
 /// The names of the scenes.
@@ -262,11 +266,9 @@ impl ThreePorts {
     /// The camera's point: the midpoint of the instruments' tips at `q`, in the endoscope's
     /// base frame.
     pub fn look_at(&self, q: &[SVector<f64, 7>; 3]) -> Vector3<f64> {
-        let tip = |k: usize| {
-            self.bases[k].transform_point(&self.kins[k].chain.forward_kinematics(&q[k]).translation)
-        };
-        let midpoint = (tip(0) + tip(1)) / 2.0;
-        self.bases[2].inverse().transform_point(&midpoint)
+        // The Panda's forward kinematics cannot fail; the indices are the scene's.
+        camera_point::<f64, Kin, 3, 7, 7, 2, 4, 4, 4>(&self.kins, q, &self.bases, &[0, 1], 2)
+            .unwrap_or_else(|_| Vector3::from_element(f64::NAN))
     }
 
     /// Each arm's reference at `t` (s) and joints `q`: the instruments' along their paths, the
