@@ -361,7 +361,12 @@ enum Source {
     Scenario(trocar_sim::simulation::Scenario, trocar::se3::Se3<f64>),
     /// A moving-port scenario: its name, the tip's pose and the true port at the start.
     MovingPort(&'static str, trocar::se3::Se3<f64>, [f64; 3]),
-    Trajectory(crate::Trajectory, nalgebra::Matrix3<f64>),
+    /// A trajectory of one's own: the path, the tip's pose at the start and the trocar.
+    Trajectory(
+        crate::Trajectory,
+        trocar::se3::Se3<f64>,
+        nalgebra::Vector3<f64>,
+    ),
 }
 
 impl RunSetup {
@@ -436,12 +441,13 @@ impl RunSetup {
         robot.check_joints("q0", &options.q0)?;
         let (at_q0, g0) = start(robot, &options.q0)?;
         let duration = trajectory.t.last().copied().unwrap_or(0.0);
+        let trocar = options.trocar.unwrap_or(at_q0);
         Ok(RunSetup {
             q0: options.q0,
-            trocar: options.trocar.unwrap_or(at_q0),
+            trocar,
             duration,
             controller: options.controller,
-            source: Source::Trajectory(trajectory, g0.rotation),
+            source: Source::Trajectory(trajectory, g0, nalgebra::Vector3::from(trocar)),
         })
     }
 
@@ -463,7 +469,8 @@ impl RunSetup {
                     angular_velocity: r.angular_velocity.into(),
                 }
             }
-            Source::Trajectory(path, r0) => path.at(t, r0),
+            // As the run builds it: a roll turned through the trocar (`Trajectory::reference`).
+            Source::Trajectory(path, g0, trocar) => path.reference(t, g0, trocar),
             Source::MovingPort(name, g0, _) => {
                 // The tip's target moves with the anatomy, as the port does.
                 let (d, v) = breathing::true_port_motion(name, t);

@@ -575,31 +575,44 @@ def test_the_port_registered_from_a_pivot_without_force():
 
 
 def test_a_loop_of_ones_own_reproduces_simulate_along_a_trajectory():
-    """Controller.step with Trajectory.reference, stepped as trocar simulate steps (t = k dt, then
-    q += dt qd), gives simulate(robot, trajectory=...)'s joints at every row to rounding: what a
-    user's loop needs of trocar is these two calls."""
+    """Controller.step with the run's reference, stepped as trocar simulate steps (t = k dt, then
+    q += dt qd), gives simulate(robot, trajectory=...)'s joints at every row of a 10 s path:
+    exactly with RunSetup.reference, and to rounding with Trajectory.reference from the start
+    pose robot.eval gives (its last bits differ from the run's own, and the roll's angular
+    velocity, a central difference, carries them along)."""
     robot = trocar.Robot.load("panda-laparoscope")
     path = str(ROOT / "examples" / "trajectories" / "panda-circle.csv")
     q0 = [0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4]
     trace = trocar.simulate(robot, trajectory=path, q0=q0)
     setup = trocar.RunSetup(robot, trajectory=path, q0=q0)
-    controller = trocar.Controller(robot, **setup.controller)
     path_reference = trocar.Trajectory.load(path)
     pose = robot.eval(q0, what="fk")
     r0, p0 = np.asarray(pose[:3, :3]), np.asarray(pose[:3, 3])
     t = trace["t"]
     dt = t[1] - t[0]
-    q = np.array(q0, dtype=float)
-    worst = 0.0
-    for k in range(len(t)):
-        row = np.array([trace[f"q{j + 1}"][k] for j in range(7)])
-        worst = max(worst, float(np.max(np.abs(q - row))))
-        reference = path_reference.reference(k * dt, r0, p0, setup.trocar)
-        out = controller.step(q, reference, setup.trocar, dt)
-        assert out["status"] == "Held", (k, out["status"])
-        q = q + np.asarray(out["qd"]) * dt
-    assert len(t) > 100
-    assert worst <= 1e-12, worst
+    rows = np.stack([trace[f"q{j + 1}"] for j in range(7)], axis=1)
+    assert len(t) > 1000
+
+    def replay(reference_at):
+        controller = trocar.Controller(robot, **setup.controller)
+        q = np.array(q0, dtype=float)
+        worst = 0.0
+        for k in range(len(t)):
+            worst = max(worst, float(np.max(np.abs(q - rows[k]))))
+            out = controller.step(q, reference_at(k * dt), setup.trocar, dt)
+            assert out["status"] == "Held", (k, out["status"])
+            q = q + np.asarray(out["qd"]) * dt
+        return worst
+
+    assert replay(setup.reference) == 0.0
+    own = replay(lambda t: path_reference.reference(t, r0, p0, setup.trocar))
+    assert own <= 1e-11, own
+    for s in (0.0, 1.234, 9.99):
+        a, b = setup.reference(s), path_reference.reference(s, r0, p0, setup.trocar)
+        for key in ("position", "rotation", "velocity"):
+            np.testing.assert_allclose(a[key], b[key], rtol=0, atol=1e-13)
+        # A central difference of the roll's rotation: the start pose's last bits over its step.
+        np.testing.assert_allclose(a["angular_velocity"], b["angular_velocity"], rtol=0, atol=1e-9)
 
 
 def test_trajectory_reference_as_simulate_builds_it():
