@@ -25,7 +25,7 @@
 use crate::emit::checks::ChecksGate;
 use crate::error::Error;
 use crate::ir::Real;
-use crate::module::{c_api_names, module_string, spec_for, ModuleOptions};
+use crate::module::{c_api_names, module_string, record_c_symbols, spec_for, ModuleOptions};
 use crate::naming::checked_module_name;
 use crate::{emit, generate_mechanism_string};
 use std::collections::BTreeMap;
@@ -306,14 +306,10 @@ impl Builder {
             if out.insert(file, code).is_some() {
                 return Err(Error::DuplicateModule(module));
             }
-            for symbol in exported {
-                if let Some(first) = symbols.insert(symbol.clone(), module.clone()) {
-                    return Err(Error::CSymbolClash {
-                        symbol,
-                        modules: (first, module),
-                    });
-                }
-            }
+            record_c_symbols(
+                &mut symbols,
+                exported.into_iter().map(|s| (s, module.clone())),
+            )?;
             if let Some(header) = header {
                 out.insert(format!("{module}.h"), header);
             }
@@ -343,14 +339,7 @@ impl Builder {
             if out.insert(format!("{module}.rs"), code).is_some() {
                 return Err(Error::DuplicateModule(module));
             }
-            for symbol in exported {
-                if let Some(first) = symbols.insert(symbol.clone(), module.clone()) {
-                    return Err(Error::CSymbolClash {
-                        symbol,
-                        modules: (first, module),
-                    });
-                }
-            }
+            record_c_symbols(&mut symbols, exported)?;
             for (file, text) in headers {
                 if out.insert(file.clone(), text).is_some() {
                     return Err(Error::DuplicateModule(file));

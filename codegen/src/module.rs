@@ -146,6 +146,24 @@ pub(crate) fn module_tokens(
 }
 
 /// With the C ABI, a fused function's C function `<module>_<name>` lives beside the module's
+/// Records the C symbols of one build, `(symbol, the module exporting it)`, in `seen`:
+/// [`Error::CSymbolClash`] naming both modules where a symbol is already there (modules `arm` and
+/// `arm_link`: `arm_link_pose_and_jacobian`).
+pub(crate) fn record_c_symbols(
+    seen: &mut std::collections::BTreeMap<String, String>,
+    exported: impl IntoIterator<Item = (String, String)>,
+) -> Result<(), Error> {
+    for (symbol, module) in exported {
+        if let Some(first) = seen.insert(symbol.clone(), module.clone()) {
+            return Err(Error::CSymbolClash {
+                symbol,
+                modules: (first, module),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Rust items: a fused name that starts with `<module>_` (it could be another C function's Rust
 /// name) or is the C ABI's helper `c_params` would clash; and the header's macros must be
 /// distinct ([`emit::c_api::check_names`]).

@@ -21,7 +21,7 @@ use crate::emit::c_scene::SceneC;
 use crate::emit::Runtime;
 use crate::error::Error;
 use crate::ir::Real;
-use crate::module::{module_tokens, spec_for, ModuleOptions};
+use crate::module::{module_tokens, record_c_symbols, spec_for, ModuleOptions};
 use crate::naming::module_name;
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -61,8 +61,8 @@ struct SceneCParts {
     scene: SceneC,
     /// Each distinct arm module's C and C++ headers: `(file name, text)`.
     headers: Vec<(String, String)>,
-    /// Every C symbol the scene's library exports.
-    symbols: Vec<String>,
+    /// Every C symbol the scene's library exports, with the module that exports it.
+    symbols: std::collections::BTreeMap<String, String>,
 }
 
 /// A scene's module with its C ABI ([`crate::Builder::c_api`]): the module's code, and its
@@ -74,8 +74,9 @@ pub struct SceneCFiles {
     pub code: String,
     /// The headers: `(file name, text)`.
     pub headers: Vec<(String, String)>,
-    /// Every C symbol the module exports.
-    pub symbols: Vec<String>,
+    /// Every C symbol the module exports, with the module (the scene's or an arm's) that
+    /// exports it: `(symbol, module)`.
+    pub symbols: Vec<(String, String)>,
 }
 
 /// The scene's module with its C ABI and its headers ([`SceneCFiles`]); `options.c_api` is
@@ -99,7 +100,7 @@ pub fn generate_scene_c(
     Ok(SceneCFiles {
         code,
         headers,
-        symbols: c.symbols,
+        symbols: c.symbols.into_iter().collect(),
     })
 }
 
@@ -177,12 +178,14 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
             .map(|(name, desc)| spec_for(desc, &arm_options(name)))
             .collect::<Result<Vec<_>, Error>>()?
     };
+    let scene_name =
+        crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
     // The C ABI: each arm module's headers and symbols (checked distinct), and what the scene's
     // C object is emitted from.
     let mut c_parts = None;
     if options.c_api {
         let mut headers = Vec::new();
-        let mut symbols: Vec<String> = Vec::new();
+        let mut symbols = std::collections::BTreeMap::new();
         for ((name, _), spec) in modules.iter().zip(&specs) {
             crate::module::c_api_names(spec)?;
             headers.push((
@@ -192,23 +195,18 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
             if let Some(cpp) = crate::emit::cpp_header::header(spec, options.real) {
                 headers.push((format!("{name}.hpp"), cpp));
             }
-            for symbol in crate::emit::c_api::symbols(spec) {
-                if symbols.contains(&symbol) {
-                    return Err(Error::CSymbolClash {
-                        symbol,
-                        modules: (modules[0].0.clone(), name.clone()),
-                    });
-                }
-                symbols.push(symbol);
-            }
+            record_c_symbols(
+                &mut symbols,
+                crate::emit::c_api::symbols(spec)
+                    .into_iter()
+                    .map(|s| (s, name.clone())),
+            )?;
         }
         let spec = &specs[0];
-        let c_name =
-            crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
         let camera = scene.arms.iter().position(|arm| arm.camera.is_some());
         let task_rows = Literal::usize_unsuffixed(scene.arms[0].robot.task_rows());
         let c_scene = SceneC {
-            name: c_name,
+            name: scene_name.clone(),
             arm_modules: arm_module.iter().map(|&k| modules[k].0.clone()).collect(),
             config_fields: crate::emit::c_controller::config_fields(spec),
             arm_size: crate::emit::c_controller::size_bound(spec, options.real),
@@ -222,15 +220,13 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
             weights: [scene.orientation_weight, scene.rate_weight],
             camera,
         };
-        for symbol in c_scene.symbols() {
-            if symbols.contains(&symbol) {
-                return Err(Error::CSymbolClash {
-                    symbol,
-                    modules: (modules[0].0.clone(), c_scene.name.clone()),
-                });
-            }
-            symbols.push(symbol);
-        }
+        record_c_symbols(
+            &mut symbols,
+            c_scene
+                .symbols()
+                .into_iter()
+                .map(|s| (s, scene_name.clone())),
+        )?;
         c_parts = Some(SceneCParts {
             scene: c_scene,
             headers,
@@ -598,9 +594,8 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
         #camera
         #c_items
     };
-    let name = crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
     Ok(Parts {
-        name,
+        name: scene_name,
         doc,
         arms: items,
         rest,

@@ -116,7 +116,7 @@ pub(crate) fn config_fields(spec: &ModuleSpec) -> Vec<&'static str> {
 
 /// An identity of the module for its storage (FNV-1a of its name): `update` refuses storage
 /// that this module's `init` did not write.
-pub(crate) fn magic(spec: &ModuleSpec) -> u64 {
+fn magic(spec: &ModuleSpec) -> u64 {
     fnv1a(&spec.name)
 }
 

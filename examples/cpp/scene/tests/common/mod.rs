@@ -92,8 +92,7 @@ pub fn c_run() -> Vec<Vec<f64>> {
     };
     assert_eq!(code, 0);
     for _ in 0..1500 {
-        let (point, reference) = camera(&q, [0.0; 3]);
-        let _ = point;
+        let reference = camera_reference(camera_point(&q), [0.0; 3]);
         let mut qd = [0.0; N];
         // SAFETY: sizes as the header states; a null trocar rate and report.
         let code = unsafe {
@@ -139,8 +138,7 @@ pub fn c_run() -> Vec<Vec<f64>> {
             Some((t0, p0)) if t > t0 => core::array::from_fn(|i| (point[i] - p0[i]) / (t - t0)),
             _ => [0.0; 3],
         };
-        let (_, camera_reference) = camera(&q, velocity);
-        references[36..].copy_from_slice(&camera_reference);
+        references[36..].copy_from_slice(&camera_reference(point, velocity));
         last = Some((t, point));
         let mut row = vec![t];
         row.extend_from_slice(&q);
@@ -196,17 +194,15 @@ fn camera_point(q: &[f64; A * N]) -> [f64; 3] {
     point
 }
 
-/// The camera's point at `q` and the endoscope's reference toward it, the point moving at
-/// `velocity`.
-fn camera(q: &[f64; A * N], velocity: [f64; 3]) -> ([f64; 3], [f64; 18]) {
-    let point = camera_point(q);
+/// The endoscope's reference toward `point`, the point moving at `velocity`.
+fn camera_reference(point: [f64; 3], velocity: [f64; 3]) -> [f64; 18] {
     let mut reference = [0.0; 18];
     // SAFETY: 3, 3 and room for 18.
     let code = unsafe {
         tp::three_ports_camera_reference(point.as_ptr(), velocity.as_ptr(), reference.as_mut_ptr())
     };
     assert_eq!(code, 0);
-    (point, reference)
+    reference
 }
 
 /// The columns of the run, by name, as the command line names them.
