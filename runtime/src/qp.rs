@@ -337,20 +337,60 @@ impl<T: RealField + Copy, const N: usize, const E: usize, const C: usize> Proble
     }
 
     /// `true` when `x` meets every inequality row, `lo ≤ G x ≤ hi` and `lb ≤ x ≤ ub`, within the
-    /// solver's feasibility tolerance (the test it applies to its own iterates).
+    /// solver's feasibility tolerance (the test it applies to its own iterates). A NaN does not
+    /// meet them.
     pub fn meets_inequalities(&self, x: &SVector<T, N>) -> bool {
+        all_finite(x.as_slice()) && self.most_violated(x).is_none()
+    }
+
+    /// The inequality row that `x` (finite) violates most beyond the solver's feasibility
+    /// tolerance, the violation of a general row measured along its normal (over `‖g_r‖`), and
+    /// the side it violates: `Violated::General(r, side)` or `Violated::Bound(k, side)`; `None`
+    /// where `x` meets every row.
+    fn most_violated(&self, x: &SVector<T, N>) -> Option<(Violated, Side)> {
         let feas = feasibility::<T, N>();
-        let within = |s: T, l: T, u: T, mag: T| {
-            let tol = row_tolerance(feas, l, u, mag);
-            s >= l - tol && s <= u + tol
+        let mut most: Option<(T, Violated, Side)> = None;
+        let mut consider = |by: T, row: Violated, side: Side| {
+            if most.is_none_or(|(m, _, _)| by > m) {
+                most = Some((by, row, side));
+            }
         };
-        let general = (0..C).all(|r| {
+        for r in 0..C {
             let row = self.g.row(r);
             let mag = (0..N).fold(T::zero(), |m, j| m + (row[j] * x[j]).abs());
-            within((row * x)[0], self.lo[r], self.hi[r], mag)
-        });
-        general && (0..N).all(|k| within(x[k], self.lb[k], self.ub[k], x[k].abs()))
+            let tol = row_tolerance(feas, self.lo[r], self.hi[r], mag);
+            let s = (row * x)[0];
+            if s < self.lo[r] - tol {
+                consider(
+                    (self.lo[r] - s) / row.norm(),
+                    Violated::General(r),
+                    Side::Lower,
+                );
+            } else if s > self.hi[r] + tol {
+                consider(
+                    (s - self.hi[r]) / row.norm(),
+                    Violated::General(r),
+                    Side::Upper,
+                );
+            }
+        }
+        for k in 0..N {
+            let tol = row_tolerance(feas, self.lb[k], self.ub[k], x[k].abs());
+            if x[k] < self.lb[k] - tol {
+                consider(self.lb[k] - x[k], Violated::Bound(k), Side::Lower);
+            } else if x[k] > self.ub[k] + tol {
+                consider(x[k] - self.ub[k], Violated::Bound(k), Side::Upper);
+            }
+        }
+        most.map(|(_, row, side)| (row, side))
     }
+}
+
+/// An inequality row of a [`Problem`]: general row `r`, or the bound of variable `k`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Violated {
+    General(usize),
+    Bound(usize),
 }
 
 /// `64 n ε`: the solver's feasibility tolerance per unit of a row's size.
@@ -517,33 +557,10 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
                 }
                 return next;
             }
-            let feas = feasibility::<T, N>();
-            let gx = p.g * x;
-            let mut most = (T::zero(), usize::MAX, Side::Inactive);
-            for g in 0..C {
-                let row = p.g.row(g);
-                let mag = (0..N).fold(T::zero(), |s, c| s + (row[c] * x[c]).abs());
-                let tol = row_tolerance(feas, p.lo[g], p.hi[g], mag);
-                let norm = row.norm();
-                if gx[g] < p.lo[g] - tol && (p.lo[g] - gx[g]) > most.0 * norm {
-                    most = ((p.lo[g] - gx[g]) / norm, E + g, Side::Lower);
-                } else if gx[g] > p.hi[g] + tol && (gx[g] - p.hi[g]) > most.0 * norm {
-                    most = ((gx[g] - p.hi[g]) / norm, E + g, Side::Upper);
-                }
-            }
-            for k in 0..N {
-                let tol = row_tolerance(feas, p.lb[k], p.ub[k], x[k].abs());
-                if x[k] < p.lb[k] - tol && p.lb[k] - x[k] > most.0 {
-                    most = (p.lb[k] - x[k], E + C + k, Side::Lower);
-                } else if x[k] > p.ub[k] + tol && x[k] - p.ub[k] > most.0 {
-                    most = (x[k] - p.ub[k], E + C + k, Side::Upper);
-                }
-            }
-            let (_, id, side) = most;
-            if id < E + C {
-                next.general[id - E] = side;
-            } else if id < E + C + N {
-                next.bounds[id - E - C] = side;
+            match p.most_violated(x) {
+                Some((Violated::General(g), side)) => next.general[g] = side,
+                Some((Violated::Bound(k), side)) => next.bounds[k] = side,
+                None => {}
             }
             next
         };

@@ -201,3 +201,57 @@ fn the_range_space_declines_what_it_cannot_answer() {
         Status::NonFinite
     );
 }
+
+/// The scene's solve (`control::scene::solve_qp`: the range space from the warm start, else the
+/// primal method from the warm start's general rows alone) gives the optimum of the primal
+/// method from a cold start for the warm starts a controller hands it: the optimum's own rows,
+/// the optimum of the problem a step before (moved by 2 % of its data), that with every bound
+/// held on the other side, and none.
+#[test]
+fn the_scenes_solve_gives_the_optimum_from_a_controllers_warm_starts() {
+    use trocar::control::scene::solve_qp;
+    let settings = Settings::default();
+    let (mut compared, mut fell_back) = (0, 0);
+    for seed in 0..150u64 {
+        let mut r = rng(9000 + seed);
+        let shape = Shape {
+            kappa: [1e-3, 0.05, 0.5][seed as usize % 3],
+            j_rows: 6,
+            task: uniform(&mut r, 0.5, 4.0),
+            feasible_eq: true,
+            b_scale: 0.0,
+        };
+        let before: Problem<f64, 21, 6, 6> = random_problem(&mut r, &shape);
+        let p = perturb(&before, seed, 2e-2);
+        let optimum = p.solve(&ActiveSet::EMPTY, &settings);
+        let previous = before.solve(&ActiveSet::EMPTY, &settings);
+        if optimum.status != Status::Optimal || previous.status != Status::Optimal {
+            continue;
+        }
+        let mut flipped = previous.active;
+        for b in flipped.bounds.iter_mut() {
+            *b = match b {
+                Side::Inactive => Side::Inactive,
+                Side::Lower => Side::Upper,
+                Side::Upper => Side::Lower,
+            };
+        }
+        for warm in [optimum.active, previous.active, flipped, ActiveSet::EMPTY] {
+            let s = solve_qp(&p, &warm, &settings);
+            fell_back += usize::from(solve_range_space(&p, &warm).is_none());
+            assert_eq!(s.status, Status::Optimal, "seed {seed} from {warm:?}");
+            assert!(
+                (s.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()),
+                "seed {seed}: {:e} from the optimum",
+                (s.x - optimum.x).amax()
+            );
+            compared += 1;
+        }
+    }
+    println!("{compared} solves, {fell_back} by the primal method");
+    assert!(compared >= 400, "only {compared} solves compared");
+    assert!(
+        fell_back >= 50,
+        "only {fell_back} solves left the range space"
+    );
+}

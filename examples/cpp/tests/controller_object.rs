@@ -5,39 +5,15 @@
 //! limit along the `panda-laparoscope-limits` path, does not allocate, starts again with
 //! `reset`, and refuses every input outside its rules with its return code, writing nothing.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 mod common;
 
 use common::{gains, rust_qp_controller, start, ACCELERATION, JERK, SPEED};
 use trocar::control::{Gains, MethodKind, Rcm, StepStatus};
 use trocar::nalgebra::{SVector, Vector3};
+use trocar_counting_allocator::{allocations_during, Counting};
 use trocar_cpp_example::panda_laparoscope as m;
 use trocar_cpp_example::Q0;
 use trocar_sim::simulation::{panda_limits_reference, PANDA_DEPTH_LIMITS};
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-struct Counting;
-
-// SAFETY: every call is forwarded to the system allocator unchanged; the counter is a
-// thread-local `Cell` that allocates nothing.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if COUNTING.with(Cell::get) {
-            COUNT.with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: the caller's contract for `alloc`, passed on.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: the caller's contract for `dealloc`, passed on.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
 
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
@@ -125,11 +101,11 @@ fn the_c_object_steps_as_the_rust_controller_and_keeps_the_limits() {
     for k in 0..3000 {
         let t = k as f64 * dt;
         let reference = reference_values(t, &g0);
-        COUNTING.with(|c| c.set(true));
-        let before = COUNT.with(Cell::get);
-        let (code, qd, report) = update(&mut storage, &q, &reference, &trocar, dt);
-        allocations += COUNT.with(Cell::get) - before;
-        COUNTING.with(|c| c.set(false));
+        let mut stepped = None;
+        allocations += allocations_during(|| {
+            stepped = Some(update(&mut storage, &q, &reference, &trocar, dt));
+        });
+        let (code, qd, report) = stepped.expect("the update ran");
         assert_eq!(code, 0, "step {k}");
         let out = rust
             .step(

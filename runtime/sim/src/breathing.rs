@@ -37,6 +37,7 @@ use crate::scene::{controller, panda, SceneRunError};
 use nalgebra::{SVector, Vector3};
 use trocar::control::{ConstrainedKinematics, Rcm, Reference, StepStatus};
 use trocar::port::{PortFollower, PortRegistration, Wall};
+use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
@@ -284,9 +285,9 @@ pub fn simulate_with(
     let g_0i = |q: &SVector<f64, 7>| {
         <Panda as ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>>::g_0i(&kin, q)
     };
-    let line_at = |q: &SVector<f64, 7>| {
+    let line_of = |g_0i: &Se3<f64>| {
         shaft
-            .line(&g_0i(q))
+            .line(g_0i)
             .ok_or_else(|| SceneRunError("the shaft has no direction".into()))
     };
     // The port at the start: the constraint frame at the nominal insertion.
@@ -312,7 +313,7 @@ pub fn simulate_with(
     let mut lines = PortRegistration::<f64>::new();
     let mut encoders = Encoders(0x9E37_79B9_7F4A_7C15);
     let mut registered: Option<Vector3<f64>> = None;
-    let shaft_direction = line_at(&q)?.direction;
+    let shaft_direction = line_of(&g_0i(&q))?.direction;
     let across = shaft_direction.cross(&Vector3::x());
     let pivot_u = if across.norm() > 0.1 {
         across.normalize()
@@ -352,7 +353,8 @@ pub fn simulate_with(
         let (displacement, port_rate) = motion(t);
         let port = port0 + displacement;
         // The wall's force on the shaft, from the shaft's offset from the true port and its rate.
-        let line = line_at(&q)?;
+        let g_0i_q = g_0i(&q);
+        let line = line_of(&g_0i_q)?;
         let offset = line.offset_from(&port);
         let offset_rate = last_offset.map_or_else(Vector3::zeros, |e| (offset - e) / DT);
         last_offset = Some(offset);
@@ -380,7 +382,7 @@ pub fn simulate_with(
                 Some(found) => (found, Vector3::zeros()),
                 None if t < PIVOT_DURATION => {
                     lines
-                        .add(&line_at(&encoders.read(&q))?)
+                        .add(&line_of(&g_0i(&encoders.read(&q)))?)
                         .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
                     (port, Vector3::zeros())
                 }
@@ -408,7 +410,7 @@ pub fn simulate_with(
         } else {
             (Vector3::zeros(), Vector3::zeros())
         };
-        let dv = shaft.trocar_rate(&g_0i(&q), &h, &trocar_rate);
+        let dv = shaft.trocar_rate(&g_0i_q, &h, &trocar_rate);
         let reference = Reference {
             position: g_0e0.translation + displacement + pivot,
             rotation: g_0e0.rotation,

@@ -1,8 +1,5 @@
 //! The control step allocates nothing: a counting global allocator (this test binary only).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use trocar::constraint::Constraint;
 use trocar::control::{
     ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
@@ -10,41 +7,13 @@ use trocar::control::{
 };
 use trocar::kinematics::Chain;
 use trocar::nalgebra::{SVector, Vector2, Vector3};
+use trocar_counting_allocator::{allocations_during, Counting};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::Q0;
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    /// Only allocations of the thread running the steps are counted (the test harness's own
-    /// threads may allocate concurrently).
-    static ARMED: Cell<bool> = const { Cell::new(false) };
-}
-
-fn count() {
-    if ARMED.try_with(Cell::get).unwrap_or(false) {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static ALLOCATOR: Counting = Counting;
 
 #[test]
 fn control_step_allocates_nothing() {
@@ -55,13 +24,10 @@ fn control_step_allocates_nothing() {
     // The constraint as the description states it (wrist preset, `g_ir` from `[constraint]`).
     let described = ChainKinematics::thesis(chain, model.to_constraint::<2>().unwrap());
     // The counter sees an allocation on this thread.
-    ARMED.with(|a| a.set(true));
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
-    let v = std::hint::black_box(vec![1u8; 16]);
-    let seen = ALLOCATIONS.load(Ordering::SeqCst) - before;
-    ARMED.with(|a| a.set(false));
-    drop(v);
-    assert_eq!(seen, 1);
+    assert_eq!(
+        allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))),
+        1
+    );
     // Each call counts the allocations of its own 9000 steps (after its setup).
     assert_eq!(run(&numeric, &chain), 9000);
     assert_eq!(run(&described, &chain), 9000);
@@ -84,8 +50,7 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
         },
     ];
     let mut steps = 0;
-    ARMED.with(|a| a.set(true));
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let mut allocations = 0;
     for inverse in inverses {
         let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
             kp: 5.0,
@@ -99,30 +64,25 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
             max_joint_speed: None,
         });
         let mut q = q0;
-        for k in 0..3000 {
-            let t = k as f64 * 0.002;
-            let reference = Reference {
-                position: g0.translation + Vector3::new(0.01 * t.sin(), 0.0, 0.0),
-                rotation: g0.rotation,
-                velocity: Vector3::new(0.01 * t.cos(), 0.0, 0.0),
-                angular_velocity: Vector3::zeros(),
-            };
-            let rcm = Rcm {
-                trocar,
-                dv: Vector2::new(0.001, 0.0),
-            };
-            let out = ctrl.step(kin, &q, &reference, &rcm, 0.002).unwrap();
-            q += out.qd * 0.002;
-            steps += 1;
-        }
+        allocations += allocations_during(|| {
+            for k in 0..3000 {
+                let t = k as f64 * 0.002;
+                let reference = Reference {
+                    position: g0.translation + Vector3::new(0.01 * t.sin(), 0.0, 0.0),
+                    rotation: g0.rotation,
+                    velocity: Vector3::new(0.01 * t.cos(), 0.0, 0.0),
+                    angular_velocity: Vector3::zeros(),
+                };
+                let rcm = Rcm {
+                    trocar,
+                    dv: Vector2::new(0.001, 0.0),
+                };
+                let out = ctrl.step(kin, &q, &reference, &rcm, 0.002).unwrap();
+                q += out.qd * 0.002;
+                steps += 1;
+            }
+        });
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
-    ARMED.with(|a| a.set(false));
-    assert_eq!(
-        after - before,
-        0,
-        "{} allocations in {steps} steps",
-        after - before
-    );
+    assert_eq!(allocations, 0, "{allocations} allocations in {steps} steps");
     steps
 }

@@ -1,42 +1,14 @@
 //! What a control loop calls does not allocate: a counting global allocator around the typed API.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
 use trocar::nalgebra::{SMatrix, SVector};
+use trocar_counting_allocator::{allocations_during as allocations, Counting};
 use trocar_model::description::RobotDescription;
 use trocar_sim::robot::NumericRobot;
 
-struct Counting;
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if COUNTING.with(|c| c.get()) {
-            COUNT.with(|n| n.set(n.get() + 1));
-        }
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations(f: impl FnOnce()) -> usize {
-    COUNT.with(|n| n.set(0));
-    COUNTING.with(|c| c.set(true));
-    f();
-    COUNTING.with(|c| c.set(false));
-    COUNT.with(|n| n.get())
-}
+static ALLOCATOR: Counting = Counting;
 
 #[test]
 fn control_loop_calls_do_not_allocate() {

@@ -30,9 +30,11 @@
 //! arms' rates are unchanged: a scene of one arm steps exactly as its controller does.
 //!
 //! The objective is positive definite (`ε > 0`), so the QP is solved in the range space from
-//! the last step's working set first ([`crate::qp::solve_definite`], checked against the
+//! the last step's working set first ([`crate::qp::solve_range_space`], checked against the
 //! optimality conditions) and by the primal active-set method where that working set is not
-//! the optimum's.
+//! the optimum's — started from the working set's coupling rows alone: the box's rows a step
+//! held are the ones a changed problem leaves first (their multipliers change sign as a coupling
+//! comes in or lets go), and the unconstrained minimiser, the arms' own rates, is within the box.
 //!
 //! Over a sample time the shafts' motion curves their distance, which (S4) sees to first order
 //! only: the step measures each coupling's distance at `q + dt θ̇` (forward kinematics) and,
@@ -54,7 +56,7 @@ use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, 
 use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
 use crate::distance::{segment_distance, SegmentDistance};
 use crate::linalg::SquareDim;
-use crate::qp::{solve_definite, ActiveSet, Problem, Settings, Solution, Status};
+use crate::qp::{solve, solve_range_space, ActiveSet, Problem, Settings, Side, Solution, Status};
 use crate::se3::Se3;
 use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
 
@@ -534,7 +536,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 status: Status::Optimal,
             });
         }
-        let mut solution = solve_definite(&problem, &self.active, &self.settings);
+        let mut solution = solve_qp(&problem, &self.active, &self.settings);
         observe(&problem, &self.active, &solution);
         if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
             return Err(SceneError::NonFinite);
@@ -582,7 +584,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         }
         if again {
             let warm = solution.active;
-            let second = solve_definite(&problem, &warm, &self.settings);
+            let second = solve_qp(&problem, &warm, &self.settings);
             observe(&problem, &warm, &second);
             if second.status == Status::NonFinite || second.status == Status::InvalidBounds {
                 return Err(SceneError::NonFinite);
@@ -626,6 +628,28 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             coupling_active,
             status: solution.status,
         })
+    }
+}
+
+/// The scene's QP from the warm start `warm`: in the range space from its working set (with its
+/// exchanges), else by the primal active-set method from its general (coupling) rows alone —
+/// the box's rows of a warm start that failed are the ones a changed problem releases (a
+/// coupling coming in: 18 iterations of the primal method from the whole working set against 1
+/// from its coupling row in `three-ports`).
+pub fn solve_qp<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    problem: &Problem<T, N, E, C>,
+    warm: &ActiveSet<N, C>,
+    settings: &Settings,
+) -> Solution<T, N, E, C> {
+    match solve_range_space(problem, warm) {
+        Some(solution) => solution,
+        None => {
+            let couplings = ActiveSet {
+                general: warm.general,
+                bounds: [Side::Inactive; N],
+            };
+            solve(problem, &couplings, settings)
+        }
     }
 }
 

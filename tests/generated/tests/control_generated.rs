@@ -4,14 +4,12 @@
 //! Panda laparoscope (`panda_laparoscope::Kinematics`, `step_kinematics`; the numeric side built
 //! from the same description by `NumericModel::to_kinematics`: chain, constraint, shaft, task).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use trocar::constraint::Constraint;
 use trocar::control::NullSpaceObjective;
 use trocar::control::{ChainKinematics, ConstrainedKinematics, ConstrainedState, Controller, Rcm};
 use trocar::nalgebra::SMatrix;
 use trocar::nalgebra::{SVector, Vector3};
+use trocar_counting_allocator::{allocations_during, Counting};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::PANDA_Q0;
@@ -20,33 +18,8 @@ use trocar_tests_generated::control::{Dia10LikeZx, Dia10LikeZy, GeneratedKinemat
 use trocar_tests_generated::control::{IiwaEndoscope, PandaLaparoscope};
 use trocar_tests_generated::panda_laparoscope as panda;
 
-/// Counts the allocations of the current thread (tests run in parallel threads).
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(|c| c.get())
-}
+static ALLOCATOR: Counting = Counting;
 
 /// xorshift64*, uniform in `[lo, hi)`.
 struct Rng(u64);
@@ -246,19 +219,20 @@ fn generated_step_allocates_nothing() {
         dv: SVector::zeros(),
     };
     q += ctrl.step(&kin, &q, &reference, &rcm, dt).unwrap().qd * dt;
-    let before = allocations();
-    for k in 1..1000 {
-        let reference = config
-            .scenario
-            .reference(k as f64 * dt, dt, &s.g_0e, &axis7);
-        q += ctrl.step(&kin, &q, &reference, &rcm, dt).unwrap().qd * dt;
-    }
-    let after = allocations();
-    assert_eq!(after - before, 0, "allocations in 999 steps");
+    let allocations = allocations_during(|| {
+        for k in 1..1000 {
+            let reference = config
+                .scenario
+                .reference(k as f64 * dt, dt, &s.g_0e, &axis7);
+            q += ctrl.step(&kin, &q, &reference, &rcm, dt).unwrap().qd * dt;
+        }
+    });
+    assert_eq!(allocations, 0, "allocations in 999 steps");
     // The counter counts: a Vec allocates.
-    let v = std::hint::black_box(vec![1u8; 16]);
-    assert_eq!(allocations() - after, 1);
-    drop(v);
+    assert_eq!(
+        allocations_during(|| drop(std::hint::black_box(vec![1u8; 16]))),
+        1
+    );
     assert!(q.iter().all(|x| x.is_finite()));
 }
 
@@ -476,9 +450,10 @@ fn generated_panda_step_allocates_nothing() {
         dv: SVector::<f64, 2>::zeros(),
     };
     q += ctrl.step(&kin, &q, &reference, &rcm, dt).unwrap().qd * dt;
-    let before = allocations();
-    for _ in 0..100 {
-        q += ctrl.step(&kin, &q, &reference, &rcm, dt).unwrap().qd * dt;
-    }
-    assert_eq!(allocations() - before, 0, "a step allocated");
+    let allocations = allocations_during(|| {
+        for _ in 0..100 {
+            q += ctrl.step(&kin, &q, &reference, &rcm, dt).unwrap().qd * dt;
+        }
+    });
+    assert_eq!(allocations, 0, "a step allocated");
 }
