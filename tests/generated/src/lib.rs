@@ -1,4 +1,9 @@
 //! Generated modules, compiled in a `#![no_std]` crate (nothing but `core` and `trocar::emitted`).
+//!
+//! The library has no unit tests (its tests are the crate's integration tests, which link it as
+//! it is): its own test harness compiles nothing (`cfg(not(test))` below) instead of every
+//! generated module a second time.
+#![cfg(not(test))]
 #![no_std]
 #![deny(warnings)]
 #![warn(missing_docs)]
