@@ -379,10 +379,18 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> syn::Result<TokenStr
                     syn::FnArg::Receiver(_) => None,
                 });
                 let doc = format!("{}\n\nDelegates to `{m}::{name}`.", summary(&f.attrs));
+                // A function that writes through out-parameters returns nothing to use.
+                let returns = match &sig.output {
+                    syn::ReturnType::Default => false,
+                    syn::ReturnType::Type(_, ty) => {
+                        !matches!(&**ty, syn::Type::Tuple(t) if t.elems.is_empty())
+                    }
+                };
+                let must_use = returns.then(|| quote!(#[must_use]));
                 assoc.push(quote! {
                     #[doc = #doc]
                     #[inline]
-                    #[must_use]
+                    #must_use
                     pub #sig { #m::#name(#(#args),*) }
                 });
             }

@@ -32,7 +32,8 @@ struct ZyFused;
 )]
 struct ZyFma;
 
-fn main() {
+#[test]
+fn compiles_and_runs() {
     let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     let p: ZyParams<f64> = Zy::nominal_params();
     let jr: [[f64; 6]; 6] = Zy::constrained_jacobian(&q, &p);
@@ -44,10 +45,22 @@ fn main() {
     assert_eq!(zy::N, 8);
 
     let (mut jr_s, mut w_s, mut g) = ([[0.0; 6]; 6], 0.0, ([[0.0; 3]; 3], [0.0; 3]));
-    ZyFused::step(&q, &zy_fused::Params::nominal(), &mut jr_s, &mut w_s, &mut g);
+    ZyFused::step(
+        &q,
+        &zy_fused::Params::nominal(),
+        &mut jr_s,
+        &mut w_s,
+        &mut g,
+    );
     assert!((w_s - expected).abs() < 1e-12, "{w_s} vs {expected}");
     let (mut jr_f, mut w_f, mut g_f) = ([[0.0; 6]; 6], 0.0, ([[0.0; 3]; 3], [0.0; 3]));
-    ZyFma::step_f64(&q, &zy_fma::Params::nominal(), &mut jr_f, &mut w_f, &mut g_f);
+    ZyFma::step_f64(
+        &q,
+        &zy_fma::Params::nominal(),
+        &mut jr_f,
+        &mut w_f,
+        &mut g_f,
+    );
     assert!((w_f - w_s).abs() < 1e-12, "{w_f} vs {w_s}");
     assert!((g_f.1[2] - g.1[2]).abs() < 1e-12);
     // R_0e is a rotation: orthonormal columns.

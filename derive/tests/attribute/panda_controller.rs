@@ -4,11 +4,11 @@ use trocar::control::{Controller, ControllerConfig, Damping, Method, NullSpaceOb
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_derive::constrained_robot;
 
-// CARGO_MANIFEST_DIR is trybuild's project dir, $WORKSPACE/target/tests/trybuild/trocar-derive.
-#[constrained_robot(file = "../../../../runtime/model/robots/panda-laparoscope.toml")]
+#[constrained_robot(file = "../runtime/model/robots/panda-laparoscope.toml")]
 pub struct Panda;
 
-fn main() {
+#[test]
+fn compiles_and_runs() {
     let q = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
     let limits = Panda::JOINT_LIMITS;
     assert!(limits.iter().zip(&q).all(|(l, q)| l[0] < *q && *q < l[1]));
@@ -16,7 +16,12 @@ fn main() {
     let t = PandaJointTrig::<f64>::new(&q);
     let mut s = PandaStepKinematics::<f64>::zeroed();
     let trocar = [0.3, 0.0, 0.3];
-    assert!(Panda::step_kinematics(&t, &trocar, &Panda::nominal_params(), &mut s));
+    assert!(Panda::step_kinematics(
+        &t,
+        &trocar,
+        &Panda::nominal_params(),
+        &mut s
+    ));
     let mut ctrl = Controller::<f64, 7, 7, 2, 4, 4, 4>::new(ControllerConfig {
         kp: 5.0,
         ko: 10.0,

@@ -1,8 +1,7 @@
 //! The file form (f32) and the structured inline form (generic), and that they agree.
 use trocar_derive::constrained_robot;
 
-// CARGO_MANIFEST_DIR is trybuild's project dir, $WORKSPACE/target/tests/trybuild/trocar-derive.
-#[constrained_robot(file = "../../../../derive/tests/ui/robots/arm.toml", real = "f32")]
+#[constrained_robot(file = "tests/ui/robots/arm.toml", real = "f32")]
 struct FileArm;
 
 #[constrained_robot(
@@ -36,7 +35,8 @@ axis = [1, 0, 0]
 "#)]
 struct Planar;
 
-fn main() {
+#[test]
+fn compiles_and_runs() {
     let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     let a = InlineArm::constrained_jacobian(&q, &InlineArmParams::nominal());
     let qf = q.map(|x| x as f32);
