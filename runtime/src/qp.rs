@@ -345,8 +345,8 @@ impl<T: RealField + Copy, const N: usize, const E: usize, const C: usize> Proble
 
     /// The inequality row that `x` (finite) violates most beyond the solver's feasibility
     /// tolerance, the violation of a general row measured along its normal (over `‖g_r‖`), and
-    /// the side it violates: `Violated::General(r, side)` or `Violated::Bound(k, side)`; `None`
-    /// where `x` meets every row.
+    /// the side it violates: `(Violated::General(r), side)` or `(Violated::Bound(k), side)`;
+    /// `None` where `x` meets every row.
     fn most_violated(&self, x: &SVector<T, N>) -> Option<(Violated, Side)> {
         let feas = feasibility::<T, N>();
         let mut most: Option<(T, Violated, Side)> = None;
