@@ -113,7 +113,8 @@
 //!   dense QPs, needs `H` positive definite (it starts from the unconstrained minimiser and
 //!   works with `H⁻¹`); the controller's task Hessian `JᵀJ + κ²I` is singular when `κ = 0`. The
 //!   primal method works on the reduced Hessian only, and (8) takes its zero-curvature
-//!   directions to the box.
+//!   directions to the box. Where `H` is positive definite (a scene's QP, whose objective
+//!   weights every rate), [`solve_definite`] runs the dual method first, warm-started (11)–(12).
 //! - *Warm start.* Given the previous step's active set, the first point is the minimiser (7)
 //!   on that working set; when the active set has not changed it is feasible and its
 //!   multipliers have the right signs, and the solve ends after one factorisation: no
@@ -161,6 +162,8 @@
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::linalg::Cholesky;
+
+mod dual;
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// Which bound of an inequality row holds it in the active set.
@@ -418,28 +421,27 @@ pub fn solve<T: RealField + Copy, const N: usize, const E: usize, const C: usize
     out
 }
 
-/// [`solve`] for a positive definite `H`, trying the warm start's working set first in the
-/// range space: with `H = L Lᵀ` (Cholesky) and `C` the working set's rows (the equalities, then
-/// the warm start's active general rows and bounds) held at their targets `r`,
+/// [`solve`] for a positive definite `H`: the dual active-set method of Goldfarb & Idnani
+/// ([`solve_range_space`]) from the warm start's working set first. With `H = L Lᵀ` and the
+/// working set's rows `N` held at their targets `τ`,
 ///
 /// ```text
-/// Y = L⁻¹ Cᵀ = Q R,   Rᵀ R λ = r + Yᵀ L⁻¹ f,   x = L⁻ᵀ (Y λ − L⁻¹ f)           (11)
+/// Y = L⁻¹ N = Q R,   Rᵀ ζ = τ + Rᵀ Qᵀ L⁻¹ f,   R u = ζ,   x = L⁻ᵀ (Q ζ − L⁻¹ f)      (11)
 /// ```
 ///
-/// the minimiser of (1) on the working set and its multipliers (`H x + f = Cᵀ λ`). When `x`
-/// meets every row within the solver's tolerances and every inequality multiplier has its sign,
-/// `x` satisfies the Karush–Kuhn–Tucker conditions of (1)–(4) and is the optimum; it is returned
-/// with that working set as its active set ([`Status::Optimal`]). Where a row is violated the
-/// most violated one joins the working set, else the multiplier most of the wrong sign leaves
-/// it, and (11) is solved again, up to [`RANGE_SPACE_EXCHANGES`] times
-/// ([`Solution::iterations`] counts them): a warm start a row or two off the optimum's (a
-/// coupling coming in, a joint leaving its bound) is answered here too. Otherwise — `H` not
-/// positive definite to `√ε` of its largest diagonal entry, dependent rows, or no optimum within
-/// the exchanges — [`solve`] solves the problem. The working set of a controller's
-/// warm start is usually right, and the range space costs one Cholesky of `H` and one QR of `Y`
-/// where the primal method orthogonalises the working set and factors the reduced Hessian; its
-/// accuracy is that of `H`'s conditioning (which the threshold bounds by `1/√ε`). Allocates
-/// nothing and does not panic.
+/// is the minimiser of (1) on the working set and `u` its multipliers (`H x + f = N u`). The
+/// warm start's rows whose multipliers have the wrong sign leave it, and violated rows join
+/// it one at a time along the dual method's step, each change an update of `Q R` in `O(n m)`,
+/// until `x` meets every row: the optimum ([`Status::Optimal`]; [`Solution::iterations`]
+/// counts the rows that joined or left). From the optimum's own working set — a controller's
+/// warm start, usually — that is one Cholesky of `H` and one QR of `Y`, where the primal
+/// method orthogonalises the working set and factors the reduced Hessian; a coupling coming in
+/// or a joint leaving its bound costs a step each. Where the dual method declines — `H` not
+/// positive definite to `√ε` of its largest diagonal entry, an equality row dependent on the
+/// others, inequalities that cannot be met together with the equalities, or an answer that
+/// does not meet the Karush–Kuhn–Tucker conditions within the solver's tolerances (an `H` or a
+/// working set too ill-conditioned for (11)) — [`solve`] solves the problem. Allocates nothing
+/// and does not panic.
 pub fn solve_definite<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     problem: &Problem<T, N, E, C>,
     warm: &ActiveSet<N, C>,
@@ -455,370 +457,27 @@ pub fn solve_definite<T: RealField + Copy, const N: usize, const E: usize, const
     }
 }
 
-/// (11) from the warm start's working set, with up to [`RANGE_SPACE_EXCHANGES`] exchanges of
-/// rows ([`solve_definite`]): the optimum with its multipliers where a working set reached is the
-/// optimum's, `None` where none is (or `H` is not positive definite to `√ε`, or the rows are
-/// dependent). [`solve_definite`] falls back on [`solve`] then.
+/// The dual active-set method of Goldfarb & Idnani (*Math. Programming* 27, 1983) from the
+/// warm start's working set, the first half of [`solve_definite`]: the warm start's rows taken
+/// in as equalities (a dependent one left out), the rows whose multipliers have the wrong sign
+/// released, the most wrong first, then the most violated row taken in along
+///
+/// ```text
+/// z = L⁻ᵀ (I − Q Qᵀ) L⁻¹ n₊ (primal),   r = R⁻¹ Qᵀ L⁻¹ n₊ (dual)                      (12)
+/// ```
+///
+/// by the full step that brings it to its bound, or a partial step where an active row's
+/// multiplier reaches zero first (that row leaves, and the step is taken again). The optimum
+/// with its multipliers, or `None` where `H` is not positive definite to `√ε`, an equality row
+/// depends on the others, the rows cannot be met together, or the answer does not meet the
+/// Karush–Kuhn–Tucker conditions within the solver's tolerances; [`solve_definite`] falls back
+/// on [`solve`] then. Allocates nothing and does not panic.
 pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     p: &Problem<T, N, E, C>,
     warm: &ActiveSet<N, C>,
 ) -> Option<Solution<T, N, E, C>> {
-    let eps = T::default_epsilon();
-    let tiny = (eps * eps).cbrt();
-    let limit: T = nalgebra::convert(1e15);
-    if !p.is_finite() {
-        return None;
-    }
-    // Bounds in order, as `solve` asks (it reports the others).
-    if (0..C).any(|r| p.lo[r] > p.hi[r]) || (0..N).any(|k| p.lb[k] > p.ub[k]) {
-        return None;
-    }
-    let half = nalgebra::convert::<f64, T>(0.5);
-    // `(H + Hᵀ)/2`, read where it is needed.
-    let h = |i: usize, j: usize| (p.h[(i, j)] + p.h[(j, i)]) * half;
-    // H = L Lᵀ within H's envelope: row i of L starts where row i of H does (`first[i]`, its
-    // first nonzero), and so do the substitutions below — a scene's H, one block per arm, costs
-    // its blocks' work.
-    let mut first = [0usize; N];
-    for (i, f) in first.iter_mut().enumerate() {
-        *f = (0..i)
-            .find(|&j| p.h[(i, j)] != T::zero() || p.h[(j, i)] != T::zero())
-            .unwrap_or(i);
-    }
-    // `inv[i] = 1 / L_ii`: one division a row, the substitutions multiply.
-    let mut l = SMatrix::<T, N, N>::zeros();
-    let mut inv = SVector::<T, N>::zeros();
-    for i in 0..N {
-        for j in first[i]..=i {
-            let mut v = h(i, j);
-            for k in first[i].max(first[j])..j {
-                v -= l[(i, k)] * l[(j, k)];
-            }
-            if i == j {
-                if v <= T::zero() || !v.is_finite() {
-                    return None;
-                }
-                l[(i, i)] = v.sqrt();
-                inv[i] = T::one() / l[(i, i)];
-            } else {
-                l[(i, j)] = v * inv[j];
-            }
-        }
-    }
-    // L y = c and Lᵀ x = v within the envelope.
-    let forward = |c: &SVector<T, N>| {
-        let mut y = *c;
-        for i in 0..N {
-            let mut v = y[i];
-            for k in first[i]..i {
-                v -= l[(i, k)] * y[k];
-            }
-            y[i] = v * inv[i];
-        }
-        y
-    };
-    let backward = |v: &SVector<T, N>| {
-        let mut x = *v;
-        for k in (0..N).rev() {
-            x[k] *= inv[k];
-            let xk = x[k];
-            for i in first[k]..k {
-                x[i] -= l[(k, i)] * xk;
-            }
-        }
-        x
-    };
-    let largest = (0..N).fold(T::zero(), |m, k| m.max(h(k, k)));
-    let smallest = (0..N).fold(largest, |m, k| m.min(l[(k, k)] * l[(k, k)]));
-    if N == 0 || !smallest.is_finite() || smallest < eps.sqrt() * largest {
-        return None;
-    }
-    // The next working set where this one's minimiser is not the optimum: the row it violates
-    // most (scaled by `‖aᵢ‖`) taken in on its violated side, or, where it violates none, the
-    // active row whose multiplier has most the wrong sign released — one exchange of an
-    // active-set method without its step length, so the range space may answer a warm start a
-    // few rows off (a coupling coming in, a joint leaving its bound); the optimality conditions
-    // decide, so no exchange can make a wrong answer.
-    let corrected =
-        |working: &ActiveSet<N, C>, x: &SVector<T, N>, released: Option<(&[usize; N], &[T; N])>| {
-            let mut next = *working;
-            if let Some((ids, wrong)) = released {
-                let mut most = (T::zero(), usize::MAX);
-                for (id, w) in ids.iter().zip(wrong.iter()) {
-                    if *w > most.0 && *id >= E {
-                        most = (*w, *id);
-                    }
-                }
-                let id = most.1;
-                if id < E + C {
-                    next.general[id - E] = Side::Inactive;
-                } else if id < E + C + N {
-                    next.bounds[id - E - C] = Side::Inactive;
-                }
-                return next;
-            }
-            match p.most_violated(x) {
-                Some((Violated::General(g), side)) => next.general[g] = side,
-                Some((Violated::Bound(k), side)) => next.bounds[k] = side,
-                None => {}
-            }
-            next
-        };
-    // (11) on a working set: the optimum, or the next working set to try (`Err(None)`: none).
-    let attempt =
-        |working: &ActiveSet<N, C>| -> Result<Solution<T, N, E, C>, Option<ActiveSet<N, C>>> {
-            // The working set: its rows as the columns of Cᵀ, their targets, and what each is.
-            let mut ct = SMatrix::<T, N, N>::zeros();
-            let mut r = SVector::<T, N>::zeros();
-            let mut ids = [0usize; N];
-            let mut m = 0;
-            let mut push = |row: &[T], target: T, id: usize, m: &mut usize| -> Option<()> {
-                if *m >= N || !target.is_finite() || target.abs() >= limit {
-                    return None;
-                }
-                for (c, v) in row.iter().enumerate() {
-                    ct[(c, *m)] = *v;
-                }
-                r[*m] = target;
-                ids[*m] = id;
-                *m += 1;
-                Some(())
-            };
-            let mut row = [T::zero(); N];
-            for e in 0..E {
-                for (c, v) in row.iter_mut().enumerate() {
-                    *v = p.a_eq[(e, c)];
-                }
-                push(&row, p.b_eq[e], e, &mut m).ok_or(None)?;
-            }
-            for g in 0..C {
-                let target = match working.general[g] {
-                    Side::Inactive => continue,
-                    Side::Lower => p.lo[g],
-                    Side::Upper => p.hi[g],
-                };
-                for (c, v) in row.iter_mut().enumerate() {
-                    *v = p.g[(g, c)];
-                }
-                push(&row, target, E + g, &mut m).ok_or(None)?;
-            }
-            for k in 0..N {
-                let target = match working.bounds[k] {
-                    Side::Inactive => continue,
-                    Side::Lower => p.lb[k],
-                    Side::Upper => p.ub[k],
-                };
-                row = [T::zero(); N];
-                row[k] = T::one();
-                push(&row, target, E + C + k, &mut m).ok_or(None)?;
-            }
-            // Y = L⁻¹ Cᵀ in place of Cᵀ, column by column within the envelope, each column's
-            // nonzeros within `span[j]` (rows `span.0..span.1`): a row of one arm's joints stays
-            // within that arm's block of `L`, and the work below skips what is zero.
-            let mut span = [(0usize, 0usize); N];
-            for (j, sp) in span.iter_mut().enumerate().take(m) {
-                let start = (0..N).find(|&i| ct[(i, j)] != T::zero()).unwrap_or(N);
-                let mut end = start;
-                for i in start..N {
-                    if first[i] >= end && ct[(i, j)] == T::zero() {
-                        continue;
-                    }
-                    let mut v = ct[(i, j)];
-                    for k in first[i].max(start)..i {
-                        v -= l[(i, k)] * ct[(k, j)];
-                    }
-                    ct[(i, j)] = v * inv[i];
-                    end = i + 1;
-                }
-                *sp = (start, end);
-            }
-            let norm_in = |ct: &SMatrix<T, N, N>, j: usize, (a, b): (usize, usize)| {
-                (a..b)
-                    .fold(T::zero(), |s, c| s + ct[(c, j)] * ct[(c, j)])
-                    .sqrt()
-            };
-            let w = forward(&p.f);
-            let mut lambda = SVector::<T, N>::zeros();
-            let mut v = -w;
-            if m > 0 {
-                // Y = Q R by Gram–Schmidt with reorthogonalisation (twice is enough), Q in place of
-                // Y; columns whose spans do not meet are orthogonal already.
-                let mut rr = SMatrix::<T, N, N>::zeros();
-                for j in 0..m {
-                    let before = norm_in(&ct, j, span[j]);
-                    for pass in 0..2 {
-                        for i in 0..j {
-                            let (a, b) = (span[i].0.max(span[j].0), span[i].1.min(span[j].1));
-                            if a >= b {
-                                continue;
-                            }
-                            let rij = (a..b).fold(T::zero(), |s, c| s + ct[(c, i)] * ct[(c, j)]);
-                            for c in span[i].0..span[i].1 {
-                                let qi = ct[(c, i)];
-                                ct[(c, j)] -= qi * rij;
-                            }
-                            span[j] = (span[j].0.min(span[i].0), span[j].1.max(span[i].1));
-                            rr[(i, j)] += rij;
-                        }
-                        // A second pass only where the first cancelled much of the column (Kahan).
-                        if pass == 0 && norm_in(&ct, j, span[j]) >= half * before {
-                            break;
-                        }
-                    }
-                    let norm = norm_in(&ct, j, span[j]);
-                    rr[(j, j)] = norm;
-                    if norm > T::zero() {
-                        let scale = T::one() / norm;
-                        for c in span[j].0..span[j].1 {
-                            ct[(c, j)] *= scale;
-                        }
-                    }
-                }
-                let big_r = (0..m).fold(T::zero(), |a, i| a.max(rr[(i, i)].abs()));
-                if (0..m).any(|i| rr[(i, i)].abs() <= tiny * big_r || !rr[(i, i)].is_finite()) {
-                    return Err(None);
-                }
-                // Rᵀ z = r + Yᵀ w = r + Rᵀ Qᵀ w, then R λ = z (the leading m × m triangle); Y λ = Q z.
-                let mut qw = SVector::<T, N>::zeros();
-                for i in 0..m {
-                    qw[i] = (span[i].0..span[i].1).fold(T::zero(), |s, c| s + ct[(c, i)] * w[c]);
-                }
-                let mut z = SVector::<T, N>::zeros();
-                for i in 0..m {
-                    let mut rhs = r[i];
-                    for j in 0..=i {
-                        rhs += rr[(j, i)] * qw[j];
-                    }
-                    for j in 0..i {
-                        rhs -= rr[(j, i)] * z[j];
-                    }
-                    z[i] = rhs / rr[(i, i)];
-                }
-                for i in (0..m).rev() {
-                    let mut t = z[i];
-                    for j in i + 1..m {
-                        t -= rr[(i, j)] * lambda[j];
-                    }
-                    lambda[i] = t / rr[(i, i)];
-                }
-                for j in 0..m {
-                    for c in span[j].0..span[j].1 {
-                        v[c] += ct[(c, j)] * z[j];
-                    }
-                }
-            }
-            let x = backward(&v);
-            if !(all_finite(x.as_slice()) & all_finite(lambda.as_slice())) {
-                return Err(None);
-            }
-            // Primal feasibility: the equalities and every inequality within the solver's tolerances.
-            let feas = feasibility::<T, N>();
-            let mut equality_residual = T::zero();
-            for e in 0..E {
-                let a = p.a_eq.row(e);
-                let mag = (0..N).fold(T::zero(), |s, c| s + (a[c] * x[c]).abs());
-                let res = ((a * x)[0] - p.b_eq[e]).abs();
-                if res > row_tolerance(feas, p.b_eq[e], p.b_eq[e], mag) {
-                    return Err(None);
-                }
-                equality_residual = equality_residual.max(res);
-            }
-            if !p.meets_inequalities(&x) {
-                return Err(Some(corrected(working, &x, None)));
-            }
-            // Dual feasibility: every inequality multiplier of its side's sign (scaled by `‖aᵢ‖`), as
-            // the primal method's release rule (10) asks. `H x` within the envelope.
-            let mut hx = SVector::<T, N>::zeros();
-            for i in 0..N {
-                hx[i] += h(i, i) * x[i];
-                for j in first[i]..i {
-                    let hij = h(i, j);
-                    hx[i] += hij * x[j];
-                    hx[j] += hij * x[i];
-                }
-            }
-            let grad = hx + p.f;
-            let tol = tiny * (T::one() + grad.amax());
-            let mut z_general = SVector::<T, C>::zeros();
-            let mut z_bounds = SVector::<T, N>::zeros();
-            let mut y_eq = SVector::<T, E>::zeros();
-            let mut wrong_sign = [T::zero(); N];
-            for t in 0..m {
-                let id = ids[t];
-                if id < E {
-                    y_eq[id] = lambda[t];
-                    continue;
-                }
-                let (side, lo, hi, norm) = if id < E + C {
-                    let g = id - E;
-                    (working.general[g], p.lo[g], p.hi[g], p.g.row(g).norm())
-                } else {
-                    let k = id - E - C;
-                    (working.bounds[k], p.lb[k], p.ub[k], T::one())
-                };
-                let mag = if id < E + C {
-                    let g = p.g.row(id - E);
-                    (0..N).fold(T::zero(), |s, c| s + (g[c] * x[c]).abs())
-                } else {
-                    x[id - E - C].abs()
-                };
-                let fixed = hi - lo <= row_tolerance(feas, lo, hi, mag);
-                let v = lambda[t] * norm;
-                let wrong = if side == Side::Upper { v } else { -v };
-                if !fixed && wrong > tol {
-                    wrong_sign[t] = wrong;
-                    continue;
-                }
-                if id < E + C {
-                    z_general[id - E] = lambda[t];
-                } else {
-                    z_bounds[id - E - C] = lambda[t];
-                }
-            }
-            if wrong_sign.iter().any(|w| *w > T::zero()) {
-                return Err(Some(corrected(working, &x, Some((&ids, &wrong_sign)))));
-            }
-            let objective = x.dot(&hx) * half + p.f.dot(&x);
-            let gx = p.g * x;
-            let mut violation = T::zero();
-            for g in 0..C {
-                violation += (p.lo[g] - gx[g]).max(T::zero()) + (gx[g] - p.hi[g]).max(T::zero());
-            }
-            for k in 0..N {
-                violation += (p.lb[k] - x[k]).max(T::zero()) + (x[k] - p.ub[k]).max(T::zero());
-            }
-            Ok(Solution {
-                x,
-                status: Status::Optimal,
-                iterations: 0,
-                active: *working,
-                objective,
-                y_eq,
-                z_general,
-                z_bounds,
-                equality_residual,
-                violation,
-            })
-        };
-    let mut working = *warm;
-    for exchange in 0..RANGE_SPACE_EXCHANGES + 1 {
-        match attempt(&working) {
-            Ok(mut solution) => {
-                solution.iterations = exchange;
-                return Some(solution);
-            }
-            Err(Some(next)) if next != working => working = next,
-            Err(_) => return None,
-        }
-    }
-    None
+    dual::solve(p, warm)
 }
-
-/// How many times [`solve_range_space`] exchanges rows of its working set before it leaves the
-/// problem to [`solve`]: a warm start one or two steps of the primal–dual active-set method from
-/// the optimum's working set (a coupling coming in, a joint leaving its bound) is answered in the
-/// range space; one that cycles or wanders is not.
-pub const RANGE_SPACE_EXCHANGES: usize = 4;
 
 /// [`solve`]'s work.
 fn solve_from<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(

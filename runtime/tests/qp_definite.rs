@@ -1,16 +1,14 @@
-//! `qp::solve_definite`: the range-space solve (11) from a warm start, against the primal
-//! active-set solve of the same problems (an independent method): the same optimum, status and
-//! active set wherever the range space answers, and it answers for most warm-started steps of a
-//! controller-like sequence; it declines where its working set is not the optimum's (a row
-//! violated, a multiplier of the wrong sign), for a singular `H` and for dependent rows.
+//! `qp::solve_definite`: the dual active-set method (Goldfarb–Idnani) from a warm start, against
+//! the primal active-set solve of the same problems (an independent method): the same optimum,
+//! status and active set wherever the dual method answers, and it answers for most
+//! warm-started steps of a controller-like sequence, from warm starts rows off the optimum's
+//! and from none; it declines a singular `H`, dependent equality rows and rows that cannot be
+//! met together, and `solve_definite` then gives the primal method's answer.
 
 mod qp_common;
 
 use qp_common::{perturb, random_problem, rng, uniform, Shape};
-use trocar::qp::{
-    solve_definite, solve_range_space, ActiveSet, Problem, Settings, Side, Status,
-    RANGE_SPACE_EXCHANGES,
-};
+use trocar::qp::{solve_definite, solve_range_space, ActiveSet, Problem, Settings, Side, Status};
 
 /// A sequence of problems moving a little each step, each warm-started from the last solve:
 /// `(steps answered by the range space, steps)`.
@@ -30,8 +28,12 @@ fn sequence<const N: usize, const E: usize, const C: usize>(
     let settings = Settings::default();
     let mut warm = ActiveSet::<N, C>::EMPTY;
     let (mut answered, mut steps) = (0, 0);
+    // The reference: the primal method with room for a cold start's many iterations.
+    let reference = Settings {
+        max_iterations: 10_000,
+    };
     for step in 0..40 {
-        let general = p.solve(&warm, &settings);
+        let general = p.solve(&warm, &reference);
         let fast = solve_definite(&p, &warm, &settings);
         let range = solve_range_space(&p, &warm);
         if let Some(range) = range {
@@ -67,7 +69,7 @@ fn sequence<const N: usize, const E: usize, const C: usize>(
             );
         } else {
             // Declined: the general solve is what solve_definite returns.
-            assert_eq!(fast, general, "seed {seed} step {step}");
+            assert_eq!(fast, p.solve(&warm, &settings), "seed {seed} step {step}");
         }
         steps += 1;
         warm = general.active;
@@ -89,14 +91,15 @@ fn the_range_space_gives_the_primal_optimum() {
         steps += s;
     }
     println!("the range space answered {answered} of {steps} warm-started solves");
-    // Most warm starts are right: the range space answers them.
-    assert!(answered * 2 > steps, "{answered} of {steps}");
+    // The dual method answers nine in ten and more (the others: `H` or the rows too
+    // ill-conditioned for (11), which the primal method solves).
+    assert!(answered * 10 >= steps * 9, "{answered} of {steps}");
 }
 
 /// A warm start one row short of the optimum's working set (an active row left out, as when a
-/// coupling comes in): the minimiser breaks that row, and the range space takes it in and
-/// answers with the optimum, saying how many exchanges it took; where it declines,
-/// `solve_definite` still gives the optimum.
+/// coupling comes in): the minimiser breaks that row, and the dual method takes it in (with
+/// whatever leaves on the way) and answers with the optimum, counting the rows that joined or
+/// left; where it declines, `solve_definite` still gives the optimum.
 #[test]
 fn the_range_space_exchanges_rows_toward_the_optimum() {
     let settings = Settings::default();
@@ -126,7 +129,7 @@ fn the_range_space_exchanges_rows_toward_the_optimum() {
         tried += 1;
         if let Some(s) = solve_range_space(&p, &short) {
             answered += 1;
-            assert!(s.iterations >= 1 && s.iterations <= RANGE_SPACE_EXCHANGES);
+            assert!(s.iterations >= 1);
             assert_eq!(s.active, optimum.active, "seed {seed}");
             assert!(
                 (s.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()),
@@ -138,7 +141,7 @@ fn the_range_space_exchanges_rows_toward_the_optimum() {
     }
     println!("the range space answered {answered} of {tried} warm starts one row short");
     assert!(tried >= 50, "only {tried} problems with active rows");
-    assert!(answered * 2 > tried, "{answered} of {tried}");
+    assert!(answered * 10 >= tried * 9, "{answered} of {tried}");
 }
 
 #[test]
@@ -212,17 +215,22 @@ fn the_scenes_solve_gives_the_optimum_from_a_controllers_warm_starts() {
     use trocar::control::scene::solve_qp;
     let settings = Settings::default();
     let (mut compared, mut fell_back) = (0, 0);
-    for seed in 0..150u64 {
+    for seed in 0..160u64 {
         let mut r = rng(9000 + seed);
         let shape = Shape {
-            kappa: [1e-3, 0.05, 0.5][seed as usize % 3],
+            // κ = 0: `H` singular, which the dual method declines.
+            kappa: [1e-3, 0.05, 0.5, 0.0][seed as usize % 4],
             j_rows: 6,
             task: uniform(&mut r, 0.5, 4.0),
             feasible_eq: true,
             b_scale: 0.0,
         };
         let before: Problem<f64, 21, 6, 6> = random_problem(&mut r, &shape);
-        let p = perturb(&before, seed, 2e-2);
+        let mut p = perturb(&before, seed, 2e-2);
+        if shape.kappa == 0.0 {
+            // The perturbation's `dh dhᵀ` made `H` definite: keep it singular.
+            p.h = before.h;
+        }
         let optimum = p.solve(&ActiveSet::EMPTY, &settings);
         let previous = before.solve(&ActiveSet::EMPTY, &settings);
         if optimum.status != Status::Optimal || previous.status != Status::Optimal {
@@ -250,8 +258,76 @@ fn the_scenes_solve_gives_the_optimum_from_a_controllers_warm_starts() {
     }
     println!("{compared} solves, {fell_back} by the primal method");
     assert!(compared >= 400, "only {compared} solves compared");
+    // Both ways through `solve_qp` were taken: the dual method's answers and the fallback.
     assert!(
-        fell_back >= 50,
-        "only {fell_back} solves left the range space"
+        fell_back >= 60 && compared - fell_back >= 300,
+        "{fell_back} of {compared} solves by the primal method"
     );
+}
+
+/// The dual method from a cold start, with a row that depends on another (twice a row, its
+/// bounds twice as far: the same constraint) and with two rows that cannot both be met: the
+/// primal method's optimum where it answers, and where the rows cannot be met it declines and
+/// `solve_definite` reports the primal method's relaxation.
+#[test]
+fn the_dual_method_takes_dependent_rows_and_declines_infeasible_ones() {
+    let settings = Settings {
+        max_iterations: 10_000,
+    };
+    let (mut answered, mut tried, mut infeasible) = (0, 0, 0);
+    for seed in 0..120u64 {
+        let mut r = rng(20_000 + seed);
+        let shape = Shape {
+            kappa: [0.05, 0.5][seed as usize % 2],
+            j_rows: 6,
+            task: uniform(&mut r, 1.0, 4.0),
+            feasible_eq: true,
+            b_scale: 0.0,
+        };
+        let mut p: Problem<f64, 21, 6, 6> = random_problem(&mut r, &shape);
+        let row = p.g.row(0).into_owned();
+        p.g.set_row(1, &(row * 2.0));
+        p.lo[1] = 2.0 * p.lo[0];
+        p.hi[1] = 2.0 * p.hi[0];
+        // Pull the rows' optimum against their bounds: the unconstrained minimiser far along g₀.
+        p.f -= row.transpose() * 50.0;
+        let optimum = p.solve(&ActiveSet::EMPTY, &settings);
+        if optimum.status != Status::Optimal {
+            continue;
+        }
+        tried += 1;
+        if let Some(s) = solve_range_space(&p, &ActiveSet::EMPTY) {
+            answered += 1;
+            assert!(
+                (s.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()),
+                "seed {seed}: {:e} from the primal optimum",
+                (s.x - optimum.x).amax()
+            );
+            assert!(
+                (s.objective - optimum.objective).abs() <= 1e-9 * (1.0 + optimum.objective.abs())
+            );
+            // One of the two rows holds the pair at its bound, never both.
+            assert!(
+                !(s.active.general[0] != Side::Inactive && s.active.general[1] != Side::Inactive),
+                "seed {seed}: both dependent rows active"
+            );
+        }
+        // The second row beyond the first's upper bound: no point meets both.
+        let mut q = p;
+        q.lo[1] = 2.0 * p.hi[0] + 0.5;
+        q.hi[1] = q.lo[1] + 1.0;
+        if q.a_eq.nrows() > 0 {
+            let relaxed = solve_definite(&q, &ActiveSet::EMPTY, &settings);
+            assert!(
+                solve_range_space(&q, &ActiveSet::EMPTY).is_none(),
+                "seed {seed}"
+            );
+            assert_eq!(relaxed, q.solve(&ActiveSet::EMPTY, &settings));
+            infeasible += usize::from(relaxed.status == Status::InequalitiesRelaxed);
+        }
+    }
+    println!("the dual method answered {answered} of {tried} cold starts; {infeasible} relaxed");
+    assert!(tried >= 60, "only {tried} problems");
+    assert!(answered * 10 >= tried * 9, "{answered} of {tried}");
+    assert!(infeasible >= 60, "only {infeasible} relaxations");
 }

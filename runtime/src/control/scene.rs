@@ -29,12 +29,14 @@
 //! their arms' end-effector Jacobians). Where no coupling is within its influence distance the
 //! arms' rates are unchanged: a scene of one arm steps exactly as its controller does.
 //!
-//! The objective is positive definite (`ε > 0`), so the QP is solved in the range space from
-//! the last step's working set first ([`crate::qp::solve_range_space`], checked against the
-//! optimality conditions) and by the primal active-set method where that working set is not
-//! the optimum's — started from the working set's coupling rows alone: the box's rows a step
-//! held are the ones a changed problem leaves first (their multipliers change sign as a coupling
-//! comes in or lets go), and the unconstrained minimiser, the arms' own rates, is within the box.
+//! The objective is positive definite (`ε > 0`), so the QP is solved by the dual active-set
+//! method from the last step's working set ([`crate::qp::solve_range_space`]): a step whose
+//! working set is the optimum's costs one factorisation, and a coupling coming in or a joint
+//! leaving its bound one update of it each. Where the dual method declines, the primal
+//! active-set method solves it, started from the working set's coupling rows alone: the box's
+//! rows a step held are the ones a changed problem leaves first (their multipliers change sign
+//! as a coupling comes in or lets go), and the unconstrained minimiser, the arms' own rates, is
+//! within the box.
 //!
 //! Over a sample time the shafts' motion curves their distance, which (S4) sees to first order
 //! only: the step measures each coupling's distance at `q + dt θ̇` (forward kinematics) and,
@@ -631,9 +633,9 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
     }
 }
 
-/// The scene's QP from the warm start `warm`: in the range space from its working set (with its
-/// exchanges), else by the primal active-set method from its general (coupling) rows alone —
-/// the box's rows of a warm start that failed are the ones a changed problem releases (a
+/// The scene's QP from the warm start `warm`: by the dual active-set method from its working
+/// set ([`solve_range_space`]), else by the primal active-set method from its general (coupling)
+/// rows alone — the box's rows of a warm start are the ones a changed problem releases (a
 /// coupling coming in: 18 iterations of the primal method from the whole working set against 1
 /// from its coupling row in `three-ports`).
 pub fn solve_qp<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
