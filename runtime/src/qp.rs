@@ -154,7 +154,8 @@
 //!
 //! The tolerances scale with the machine epsilon `ε` of `T`: `ε^{2/3}` (4e-11 for `f64`,
 //! 2e-5 for `f32`) for rank, dependence and multiplier signs, `64 n ε` relative for the
-//! feasibility of a row. A curvature below `ε^{2/3}` of the largest is treated as zero: a
+//! feasibility of a row (`64 n ε (1 + |bound| + Σ|aᵢⱼ xⱼ|)`, each bound of its own size: a
+//! missing bound, a large finite one, does not loosen the other). A curvature below `ε^{2/3}` of the largest is treated as zero: a
 //! direction that flat is followed to the box like an exactly flat one.
 
 // Dense factorisations read best as index loops over the fixed-size arrays; `!(a > b)` is
@@ -164,6 +165,8 @@
 use crate::linalg::Cholesky;
 
 mod dual;
+
+pub(crate) use dual::Dual;
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// Which bound of an inequality row holds it in the active set.
@@ -361,15 +364,15 @@ impl<T: RealField + Copy, const N: usize, const E: usize, const C: usize> Proble
         for r in 0..C {
             let row = self.g.row(r);
             let mag = (0..N).fold(T::zero(), |m, j| m + (row[j] * x[j]).abs());
-            let tol = row_tolerance(feas, self.lo[r], self.hi[r], mag);
+            let (tol_lo, tol_hi) = side_tolerances(feas, self.lo[r], self.hi[r], mag);
             let s = (row * x)[0];
-            if s < self.lo[r] - tol {
+            if s < self.lo[r] - tol_lo {
                 consider(
                     (self.lo[r] - s) / row.norm(),
                     Violated::General(r),
                     Side::Lower,
                 );
-            } else if s > self.hi[r] + tol {
+            } else if s > self.hi[r] + tol_hi {
                 consider(
                     (s - self.hi[r]) / row.norm(),
                     Violated::General(r),
@@ -378,10 +381,10 @@ impl<T: RealField + Copy, const N: usize, const E: usize, const C: usize> Proble
             }
         }
         for k in 0..N {
-            let tol = row_tolerance(feas, self.lb[k], self.ub[k], x[k].abs());
-            if x[k] < self.lb[k] - tol {
+            let (tol_lo, tol_hi) = side_tolerances(feas, self.lb[k], self.ub[k], x[k].abs());
+            if x[k] < self.lb[k] - tol_lo {
                 consider(self.lb[k] - x[k], Violated::Bound(k), Side::Lower);
-            } else if x[k] > self.ub[k] + tol {
+            } else if x[k] > self.ub[k] + tol_hi {
                 consider(x[k] - self.ub[k], Violated::Bound(k), Side::Upper);
             }
         }
@@ -402,9 +405,19 @@ fn feasibility<T: RealField + Copy, const N: usize>() -> T {
 }
 
 /// The feasibility tolerance of a row with bounds `l`, `u` and `Σ|a_j x_j| = mag` at `x`:
-/// `feas (1 + max(|l|, |u|) + mag)`.
+/// `feas (1 + max(|l|, |u|) + mag)` (whether the bounds are one, a fixed row).
 fn row_tolerance<T: RealField + Copy>(feas: T, l: T, u: T, mag: T) -> T {
     feas * (T::one() + l.abs().max(u.abs()) + mag)
+}
+
+/// The feasibility tolerances of a row's lower and upper bound, each of its own bound's size:
+/// `feas (1 + |l| + mag)` and `feas (1 + |u| + mag)` (a missing bound, a large finite one, does
+/// not loosen the other).
+fn side_tolerances<T: RealField + Copy>(feas: T, l: T, u: T, mag: T) -> (T, T) {
+    (
+        feas * (T::one() + l.abs() + mag),
+        feas * (T::one() + u.abs() + mag),
+    )
 }
 
 /// Solves `problem` from the warm start `warm` (see the [module docs](self) for the method and
@@ -873,15 +886,15 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
     fn violated(&self, id: usize) -> Side {
         let s = self.row_dot(id, &self.x);
         let (l, u) = self.bounds(id);
-        let tol = self.feas_tol(id, &self.x);
+        let (tol_l, tol_u) = self.side_tolerances(id, &self.x);
         let forced = if id < C {
             self.forced_g[id]
         } else {
             self.forced_b[id - C]
         };
-        if s < l - tol || (forced == Side::Lower && s <= l + tol) {
+        if s < l - tol_l || (forced == Side::Lower && s <= l + tol_l) {
             Side::Lower
-        } else if s > u + tol || (forced == Side::Upper && s >= u - tol) {
+        } else if s > u + tol_u || (forced == Side::Upper && s >= u - tol_u) {
             Side::Upper
         } else {
             Side::Inactive
@@ -900,7 +913,18 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
     /// The feasibility tolerance of row `id` at `x`: `64 n ε (1 + |bounds| + Σ|a_j x_j|)`.
     fn feas_tol(&self, id: usize, x: &[T; N]) -> T {
         let (l, u) = self.bounds(id);
-        let mag = if id < C {
+        row_tolerance(self.feas, l, u, self.magnitude(id, x))
+    }
+
+    /// The feasibility tolerances of row `id`'s lower and upper bound at `x`.
+    fn side_tolerances(&self, id: usize, x: &[T; N]) -> (T, T) {
+        let (l, u) = self.bounds(id);
+        side_tolerances(self.feas, l, u, self.magnitude(id, x))
+    }
+
+    /// `Σ|a_j x_j|` of row `id`.
+    fn magnitude(&self, id: usize, x: &[T; N]) -> T {
+        if id < C {
             let mut m = T::zero();
             for j in 0..N {
                 m += (self.rows[id][j] * x[j]).abs();
@@ -908,8 +932,7 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
             m
         } else {
             x[id - C].abs()
-        };
-        row_tolerance(self.feas, l, u, mag)
+        }
     }
 
     /// Adds row `id` at side `s` to the working set; `false` if it is (numerically) dependent.
@@ -1266,8 +1289,8 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
             }
             let v = self.row_dot(id, &self.x);
             let (l, u) = self.bounds(id);
-            let tol = self.feas_tol(id, &self.x);
-            v >= l - tol && v <= u + tol
+            let (tol_l, tol_u) = self.side_tolerances(id, &self.x);
+            v >= l - tol_l && v <= u + tol_u
         });
         let mut at_min = newton;
         if !feasible {

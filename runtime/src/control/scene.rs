@@ -58,7 +58,9 @@ use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, 
 use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
 use crate::distance::{segment_distance, SegmentDistance};
 use crate::linalg::SquareDim;
-use crate::qp::{solve, solve_range_space, ActiveSet, Problem, Settings, Side, Solution, Status};
+use crate::qp::{
+    solve, solve_range_space, ActiveSet, Dual, Problem, Settings, Side, Solution, Status,
+};
 use crate::se3::Se3;
 use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
 
@@ -538,7 +540,13 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 status: Status::Optimal,
             });
         }
-        let mut solution = solve_qp(&problem, &self.active, &self.settings);
+        // The dual method's factors stay for the second solve (S5), whose problem differs in
+        // its coupling rows' bounds only.
+        let mut dual = Dual::new();
+        let mut solution = match dual.solve(&problem, &self.active) {
+            Some(solution) => solution,
+            None => from_couplings(&problem, &self.active, &self.settings),
+        };
         observe(&problem, &self.active, &solution);
         if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
             return Err(SceneError::NonFinite);
@@ -586,7 +594,10 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         }
         if again {
             let warm = solution.active;
-            let second = solve_qp(&problem, &warm, &self.settings);
+            let second = match dual.resolve(&problem) {
+                Some(second) => second,
+                None => solve_qp(&problem, &warm, &self.settings),
+            };
             observe(&problem, &warm, &second);
             if second.status == Status::NonFinite || second.status == Status::InvalidBounds {
                 return Err(SceneError::NonFinite);
@@ -645,14 +656,22 @@ pub fn solve_qp<T: RealField + Copy, const N: usize, const E: usize, const C: us
 ) -> Solution<T, N, E, C> {
     match solve_range_space(problem, warm) {
         Some(solution) => solution,
-        None => {
-            let couplings = ActiveSet {
-                general: warm.general,
-                bounds: [Side::Inactive; N],
-            };
-            solve(problem, &couplings, settings)
-        }
+        None => from_couplings(problem, warm, settings),
     }
+}
+
+/// The primal active-set method from the general (coupling) rows of `warm` alone: where the
+/// dual method declines.
+fn from_couplings<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    problem: &Problem<T, N, E, C>,
+    warm: &ActiveSet<N, C>,
+    settings: &Settings,
+) -> Solution<T, N, E, C> {
+    let couplings = ActiveSet {
+        general: warm.general,
+        bounds: [Side::Inactive; N],
+    };
+    solve(problem, &couplings, settings)
 }
 
 impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene<T, P, NS, C> {
