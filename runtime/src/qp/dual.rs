@@ -604,16 +604,35 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         let cap = 4 * (E + C + N) + 8;
         let mut stepped = false;
         let mut refined = false;
-        while let Some((violated, side)) = p.most_violated(&x) {
+        // `x` is the minimiser (11) computed afresh, not stepped to.
+        let mut fresh = true;
+        loop {
+            let Some((violated, side)) = p.most_violated(&x) else {
+                if fresh {
+                    break;
+                }
+                // The point afresh on the last working set (the steps' rounding does not
+                // build up), and the rows looked at again.
+                x = ws.minimiser(factor, w);
+                ws.clamp();
+                fresh = true;
+                continue;
+            };
             let id = match violated {
                 super::Violated::General(g) => E + g,
                 super::Violated::Bound(k) => E + C + k,
             };
             // A row of the working set that its minimiser breaks: (11) met the rows only to its
-            // rounding. One refinement; where that is not enough, `H` or the rows are too
-            // ill-conditioned here (the primal method's basis of the rows' null space is the
-            // better-conditioned one).
+            // rounding. Afresh, then one refinement; where that is not enough, `H` or the rows
+            // are too ill-conditioned here (the primal method's basis of the rows' null space
+            // is the better-conditioned one).
             if ws.id[..ws.m].contains(&id) {
+                if !fresh {
+                    x = ws.minimiser(factor, w);
+                    ws.clamp();
+                    fresh = true;
+                    continue;
+                }
                 if refined {
                     return None;
                 }
@@ -680,11 +699,9 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
                         ws.remove(j);
                     }
                     None => {
-                        // Joined: the point is the minimiser on the working set, taken afresh
-                        // (the steps' rounding does not build up).
                         ws.append(&y, span, norm, &d, row, u_new);
-                        x = ws.minimiser(factor, w);
                         ws.clamp();
+                        fresh = false;
                         break;
                     }
                 }
