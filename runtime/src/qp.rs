@@ -166,7 +166,7 @@ use crate::linalg::Cholesky;
 
 mod dual;
 
-pub(crate) use dual::Dual;
+pub use dual::Dual;
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// Which bound of an inequality row holds it in the active set.

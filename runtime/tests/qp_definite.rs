@@ -8,7 +8,9 @@
 mod qp_common;
 
 use qp_common::{perturb, random_problem, rng, uniform, Shape};
-use trocar::qp::{solve_definite, solve_range_space, ActiveSet, Problem, Settings, Side, Status};
+use trocar::qp::{
+    solve_definite, solve_range_space, ActiveSet, Dual, Problem, Settings, Side, Status,
+};
 
 /// A sequence of problems moving a little each step, each warm-started from the last solve:
 /// `(steps answered by the range space, steps)`.
@@ -32,10 +34,14 @@ fn sequence<const N: usize, const E: usize, const C: usize>(
     let reference = Settings {
         max_iterations: 10_000,
     };
+    // A workspace kept over the sequence, as a controller keeps it: the same answers, bit for
+    // bit, as a fresh one (what a solve leaves in it is cleared).
+    let mut kept = Dual::new();
     for step in 0..40 {
         let general = p.solve(&warm, &reference);
         let fast = solve_definite(&p, &warm, &settings);
         let range = solve_range_space(&p, &warm);
+        assert_eq!(kept.solve(&p, &warm), range, "seed {seed} step {step}");
         if let Some(range) = range {
             answered += 1;
             assert_eq!(
@@ -215,6 +221,8 @@ fn the_scenes_solve_gives_the_optimum_from_a_controllers_warm_starts() {
     use trocar::control::scene::solve_qp;
     let settings = Settings::default();
     let (mut compared, mut fell_back) = (0, 0);
+    // One workspace for every solve, as a scene keeps it.
+    let mut dual = Dual::new();
     for seed in 0..160u64 {
         let mut r = rng(9000 + seed);
         let shape = Shape {
@@ -245,7 +253,7 @@ fn the_scenes_solve_gives_the_optimum_from_a_controllers_warm_starts() {
             };
         }
         for warm in [optimum.active, previous.active, flipped, ActiveSet::EMPTY] {
-            let s = solve_qp(&p, &warm, &settings);
+            let s = solve_qp(&mut dual, &p, &warm, &settings);
             fell_back += usize::from(solve_range_space(&p, &warm).is_none());
             assert_eq!(s.status, Status::Optimal, "seed {seed} from {warm:?}");
             assert!(

@@ -11,11 +11,12 @@
 //! Each solver then solves the recorded sequence in order, warm-started as a controller would use
 //! it:
 //!
-//! - trocar: from the recorded warm start (the previous solve's active set), the range space on
-//!   that working set first, the primal active-set method where it is not the optimum's — for
-//!   the scene as its step solves (`control::scene::solve_qp`: the primal method from the warm
-//!   start's coupling rows), for the Panda `qp::solve_definite`; and `Problem::solve`, the
-//!   primal method alone (`primal`), as the single arm's step solves;
+//! - trocar: from the recorded warm start (the previous solve's active set), the dual
+//!   active-set method on that working set in one workspace for the whole sequence
+//!   (`qp::Dual`, as a scene keeps it), the primal active-set method where it declines — for the
+//!   scene as its step solves (`control::scene::solve_qp`: the primal method from the warm
+//!   start's coupling rows), for the Panda as `qp::solve_definite` does; and `Problem::solve`,
+//!   the primal method alone (`primal`), as the single arm's step solves;
 //! - DAQP 0.11 (dual active set, C, `-O3`, `-march=native` with `QP_PEERS_NATIVE`): one workspace for the whole
 //!   sequence, the data of each problem written into it (`daqp_update_ldp`), its working set
 //!   the warm start;
@@ -33,7 +34,7 @@
 
 use std::hint::black_box;
 use std::time::Instant;
-use trocar::qp::{ActiveSet, Problem, Settings, Side, Solution, Status};
+use trocar::qp::{ActiveSet, Dual, Problem, Settings, Side, Solution, Status};
 use trocar_sim::scene::{Kin, ThreePorts, DT, DURATION};
 
 /// Every QP of `three-ports`, with the warm start it was solved from and trocar's solution.
@@ -214,12 +215,14 @@ fn main() {
     compare(
         "panda-laparoscope-limits",
         &record_panda(),
-        trocar::qp::solve_definite::<f64, 7, 2, 1>,
+        |dual: &mut Dual<f64, 7>, p: &Problem<f64, 7, 2, 1>, warm, settings| {
+            dual.solve(p, warm).unwrap_or_else(|| p.solve(warm, settings))
+        },
     );
 }
 
-/// Solves the recorded sequence with trocar (`fast`: the range space first, as its controller
-/// solves), DAQP and OSQP and prints their times and optima.
+/// Solves the recorded sequence with trocar (`fast`: the dual method first, in one workspace
+/// for the sequence), DAQP and OSQP and prints their times and optima.
 #[allow(clippy::type_complexity)]
 fn compare<const N: usize, const E: usize, const C: usize>(
     name: &str,
@@ -228,7 +231,12 @@ fn compare<const N: usize, const E: usize, const C: usize>(
         ActiveSet<N, C>,
         Solution<f64, N, E, C>,
     )],
-    fast: fn(&Problem<f64, N, E, C>, &ActiveSet<N, C>, &Settings) -> Solution<f64, N, E, C>,
+    fast: fn(
+        &mut Dual<f64, N>,
+        &Problem<f64, N, E, C>,
+        &ActiveSet<N, C>,
+        &Settings,
+    ) -> Solution<f64, N, E, C>,
 ) {
     type Qp<const N: usize, const E: usize, const C: usize> = Problem<f64, N, E, C>;
     let settings = Settings::default();
@@ -243,6 +251,7 @@ fn compare<const N: usize, const E: usize, const C: usize>(
     let mut iterations = 0usize;
     let mut answered = 0usize;
     let mut definite_differs = 0.0f64;
+    let mut dual = Dual::new();
     for (recorded_problem, warm, s) in recorded {
         // The problem written afresh before it is solved, as a controller builds it and as
         // DAQP's data are below (a recorded problem read from the 10 MB sequence would cost its
@@ -253,7 +262,7 @@ fn compare<const N: usize, const E: usize, const C: usize>(
         let mut least_primal = f64::INFINITY;
         for run in 0..5 {
             let start = Instant::now();
-            let again = fast(black_box(p), black_box(warm), &settings);
+            let again = fast(&mut dual, black_box(p), black_box(warm), &settings);
             let elapsed = start.elapsed().as_secs_f64();
             if run == 0 {
                 ours_first.push(elapsed);
@@ -271,7 +280,7 @@ fn compare<const N: usize, const E: usize, const C: usize>(
         primal.push(least_primal);
     }
     println!(
-        "trocar: the range space answered {answered} of {count} solves; its optimum at most \
+        "trocar: the dual method answered {answered} of {count} solves; its optimum at most \
          {definite_differs:.2e} from the primal method's"
     );
     let optimal = recorded

@@ -54,11 +54,15 @@ impl SceneC {
     }
 
     /// A bound on the state's size: the arms' controller objects, the configuration, and the
-    /// scene's couplings and warm start (`ActiveSet` over `A·N` rates and `2P` coupling rows).
+    /// scene's couplings and warm start (`ActiveSet` over `A·N` rates and `2P` coupling rows)
+    /// and its QP's workspace.
     fn size_bound(&self) -> usize {
         let (a, p) = (self.arm_modules.len(), self.couplings.len());
         let (ns, c) = (a * self.joints, 2 * p);
-        let bytes = a * self.arm_size + 8 * (64 + 8 * p) + 16 * (ns + c) + 512;
+        // The QP's workspace (`trocar::qp::Dual`): three `ns × ns` matrices of reals and a few
+        // vectors and index arrays of `ns`.
+        let workspace = 8 * (3 * ns * ns + 6 * ns) + 40 * ns + 64;
+        let bytes = a * self.arm_size + 8 * (64 + 8 * p) + 16 * (ns + c) + 512 + workspace;
         bytes.div_ceil(ALIGN) * ALIGN
     }
 

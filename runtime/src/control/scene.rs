@@ -30,9 +30,9 @@
 //! arms' rates are unchanged: a scene of one arm steps exactly as its controller does.
 //!
 //! The objective is positive definite (`ε > 0`), so the QP is solved by the dual active-set
-//! method from the last step's working set ([`crate::qp::solve_range_space`]): a step whose
-//! working set is the optimum's costs one factorisation, and a coupling coming in or a joint
-//! leaving its bound one update of it each. Where the dual method declines, the primal
+//! method from the last step's working set, in a workspace the scene keeps ([`crate::qp::Dual`]):
+//! a step whose working set is the optimum's costs one factorisation, a coupling coming in or a
+//! joint leaving its bound one update of it each, and the second solve (S5) none. Where the dual method declines, the primal
 //! active-set method solves it, started from the working set's coupling rows alone: the box's
 //! rows a step held are the ones a changed problem leaves first (their multipliers change sign
 //! as a coupling comes in or lets go), and the unconstrained minimiser, the arms' own rates, is
@@ -58,9 +58,7 @@ use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, 
 use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
 use crate::distance::{segment_distance, SegmentDistance};
 use crate::linalg::SquareDim;
-use crate::qp::{
-    solve, solve_range_space, ActiveSet, Dual, Problem, Settings, Side, Solution, Status,
-};
+use crate::qp::{solve, ActiveSet, Dual, Problem, Settings, Side, Solution, Status};
 use crate::se3::Se3;
 use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
 
@@ -279,6 +277,8 @@ pub struct Scene<T: RealField + Copy, const P: usize, const NS: usize, const C: 
     /// makes the objective definite where the tasks leave joints free.
     pub rate_weight: T,
     active: ActiveSet<NS, C>,
+    /// The QP's workspace, kept from step to step.
+    dual: Dual<T, NS>,
 }
 
 impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene<T, P, NS, C> {
@@ -290,6 +290,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             orientation_weight: nalgebra::convert(0.1),
             rate_weight: nalgebra::convert(1e-3),
             active: ActiveSet::EMPTY,
+            dual: Dual::new(),
         }
     }
 
@@ -542,11 +543,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         }
         // The dual method's factors stay for the second solve (S5), whose problem differs in
         // its coupling rows' bounds only.
-        let mut dual = Dual::new();
-        let mut solution = match dual.solve(&problem, &self.active) {
-            Some(solution) => solution,
-            None => from_couplings(&problem, &self.active, &self.settings),
-        };
+        let mut solution = solve_qp(&mut self.dual, &problem, &self.active, &self.settings);
         observe(&problem, &self.active, &solution);
         if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
             return Err(SceneError::NonFinite);
@@ -594,9 +591,9 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         }
         if again {
             let warm = solution.active;
-            let second = match dual.resolve(&problem) {
+            let second = match self.dual.resolve(&problem) {
                 Some(second) => second,
-                None => solve_qp(&problem, &warm, &self.settings),
+                None => solve_qp(&mut self.dual, &problem, &warm, &self.settings),
             };
             observe(&problem, &warm, &second);
             if second.status == Status::NonFinite || second.status == Status::InvalidBounds {
@@ -645,16 +642,18 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
 }
 
 /// The scene's QP from the warm start `warm`: by the dual active-set method from its working
-/// set ([`solve_range_space`]), else by the primal active-set method from its general (coupling)
-/// rows alone — the box's rows of a warm start are the ones a changed problem releases (a
-/// coupling coming in: 18 iterations of the primal method from the whole working set against 1
-/// from its coupling row in `three-ports`).
+/// set in the workspace `dual` ([`Dual::solve`]; a scene keeps one from step to step), else by
+/// the primal active-set method from its general (coupling) rows alone — the box's rows of a
+/// warm start are the ones a changed problem releases (a coupling coming in: 18 iterations of
+/// the primal method from the whole working set against 1 from its coupling row in
+/// `three-ports`).
 pub fn solve_qp<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    dual: &mut Dual<T, N>,
     problem: &Problem<T, N, E, C>,
     warm: &ActiveSet<N, C>,
     settings: &Settings,
 ) -> Solution<T, N, E, C> {
-    match solve_range_space(problem, warm) {
+    match dual.solve(problem, warm) {
         Some(solution) => solution,
         None => from_couplings(problem, warm, settings),
     }

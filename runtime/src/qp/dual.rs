@@ -44,6 +44,7 @@ use nalgebra::{RealField, SMatrix, SVector};
 /// `H = L Lᵀ` within `H`'s envelope: row `i` of `L` starts where row `i` of `H` does
 /// (`first[i]`, its first nonzero), and so do the substitutions — a scene's `H`, one block per
 /// arm, costs its blocks' work.
+#[derive(Clone)]
 struct Factor<T: RealField + Copy, const N: usize> {
     l: SMatrix<T, N, N>,
     /// `1 / L_ii`: one division a row, the substitutions multiply.
@@ -53,6 +54,7 @@ struct Factor<T: RealField + Copy, const N: usize> {
 
 impl<T: RealField + Copy, const N: usize> Factor<T, N> {
     /// No factor yet.
+    #[inline(always)]
     fn new() -> Self {
         Factor {
             l: SMatrix::zeros(),
@@ -160,6 +162,7 @@ fn bounds<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
 }
 
 /// The working set: `m` oriented rows, `Y = L⁻¹ [n₁ … n_m] = Q R`, and the multipliers.
+#[derive(Clone)]
 struct Working<T: RealField + Copy, const N: usize> {
     /// `Q`'s columns `0..m`, column `j` nonzero only in rows `span[j].0..span[j].1`.
     q: SMatrix<T, N, N>,
@@ -433,9 +436,9 @@ fn most_wrong<T: RealField + Copy, const N: usize, const E: usize, const C: usiz
     p: &Problem<T, N, E, C>,
     ws: &Working<T, N>,
     grad: &SVector<T, N>,
+    tiny: T,
 ) -> Option<usize> {
-    let eps = T::default_epsilon();
-    let tol = (eps * eps).cbrt() * (T::one() + grad.amax());
+    let tol = tiny * (T::one() + grad.amax());
     let mut most = (tol, None);
     for j in 0..ws.m {
         if !ws.free[j] {
@@ -460,7 +463,8 @@ pub(super) fn solve<T: RealField + Copy, const N: usize, const E: usize, const C
     p: &Problem<T, N, E, C>,
     warm: &ActiveSet<N, C>,
 ) -> Option<Solution<T, N, E, C>> {
-    Dual::new().solve(p, warm)
+    let mut dual = Dual::new();
+    dual.solve(p, warm)
 }
 
 /// `true` where every bound is finite and in order (`lo ≤ hi`, `lb ≤ ub`), as the solvers ask.
@@ -475,27 +479,61 @@ fn bounds_in_order<T: RealField + Copy, const N: usize, const E: usize, const C:
         && !((0..C).any(|r| p.lo[r] > p.hi[r]) || (0..N).any(|k| p.lb[k] > p.ub[k]))
 }
 
-/// The dual method on one problem, kept between its solves: `H`'s factor, `w = L⁻¹ f` and the
-/// working set with its factors (some 11 KB for 21 variables, on the stack). A solve whose problem changes only in its bounds (a scene's
-/// second solve, its couplings' rows asking more) starts from the working set the last one
-/// ended on and its factors ([`Dual::resolve`]): no factorisation, the minimiser (11) with the
-/// new targets and the steps from there.
-pub(crate) struct Dual<T: RealField + Copy, const N: usize> {
+/// The dual active-set method's workspace (Goldfarb & Idnani; see
+/// [`solve_range_space`](super::solve_range_space)): `H`'s factor, `w = L⁻¹ f` and the working
+/// set with its factors, some `3 N²` numbers (11 KB for 21 `f64` rates), kept between solves as a
+/// controller keeps its solver. Kept, it spares each solve the clearing of that much memory
+/// (only what the last solve used is cleared); a solve whose problem differs from the last one's
+/// in its bounds only (a scene's second solve, its couplings' rows asking more) starts from the
+/// working set that one ended on and its factors ([`Dual::resolve`]): no factorisation, the
+/// minimiser (11) with the new targets and the dual steps from there. Allocates nothing and
+/// does not panic.
+///
+/// ```
+/// use trocar::qp::{ActiveSet, Dual, Problem};
+/// use nalgebra::{SMatrix, SVector};
+///
+/// // min ½‖x‖² − x₀ − x₁ subject to x₀ + x₁ = 1 and 0 ≤ x ≤ 0.8.
+/// let mut p = Problem::<f64, 2, 1, 0> {
+///     h: SMatrix::identity(),
+///     f: SVector::from([-1.0, -1.0]),
+///     a_eq: SMatrix::from_row_slice(&[1.0, 1.0]),
+///     b_eq: SVector::from([1.0]),
+///     g: SMatrix::zeros(),
+///     lo: SVector::zeros(),
+///     hi: SVector::zeros(),
+///     lb: SVector::from([0.0, 0.0]),
+///     ub: SVector::from([0.8, 0.8]),
+/// };
+/// let mut dual = Dual::new();
+/// let first = dual.solve(&p, &ActiveSet::EMPTY).expect("definite and feasible");
+/// assert!((first.x[0] - 0.5).abs() < 1e-12);
+/// // The same problem asking x₀ ≥ 0.7: from the first solve's factors.
+/// p.lb[0] = 0.7;
+/// let second = dual.resolve(&p).expect("still feasible");
+/// assert!((second.x[0] - 0.7).abs() < 1e-12 && (second.x[1] - 0.3).abs() < 1e-12);
+/// ```
+#[derive(Clone)]
+pub struct Dual<T: RealField + Copy, const N: usize> {
     factor: Factor<T, N>,
     w: SVector<T, N>,
     ws: Working<T, N>,
     /// The last solve answered: the working set is the optimum's.
     answered: bool,
+    /// `ε^{2/3}`.
+    tiny: T,
 }
 
 impl<T: RealField + Copy, const N: usize> Dual<T, N> {
-    /// No factor and no working set yet: [`Dual::solve`] makes them.
-    pub(crate) fn new() -> Self {
+    /// An empty workspace: [`Dual::solve`] makes the factor and the working set.
+    #[inline(always)]
+    pub fn new() -> Self {
         Dual {
             factor: Factor::new(),
             w: SVector::zeros(),
             ws: Working::new(),
             answered: false,
+            tiny: tiny::<T>(),
         }
     }
 
@@ -503,12 +541,12 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
     /// [`super::solve_range_space`]); `None` where some number of `p` is not finite, some
     /// bounds are not in order, `H` is not positive definite to `√ε` or the dual method
     /// declines.
-    pub(crate) fn solve<const E: usize, const C: usize>(
+    pub fn solve<const E: usize, const C: usize>(
         &mut self,
         p: &Problem<T, N, E, C>,
         warm: &ActiveSet<N, C>,
     ) -> Option<Solution<T, N, E, C>> {
-        let tiny = tiny::<T>();
+        let tiny = self.tiny;
         self.answered = false;
         self.ws.clear();
         if !p.is_finite() || !bounds_in_order(p) || !self.factor.factorise(p) {
@@ -554,7 +592,7 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
     /// with other bounds (`b_eq`, `lo`, `hi`, `lb`, `ub`; `H`, `f` and the rows the same): from
     /// the working set that solve ended on, with its factors. `None` where the last solve did
     /// not answer, the bounds are not finite and in order, or the dual method declines.
-    pub(crate) fn resolve<const E: usize, const C: usize>(
+    pub fn resolve<const E: usize, const C: usize>(
         &mut self,
         p: &Problem<T, N, E, C>,
     ) -> Option<Solution<T, N, E, C>> {
@@ -582,14 +620,14 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         &mut self,
         p: &Problem<T, N, E, C>,
     ) -> Option<Solution<T, N, E, C>> {
-        let tiny = tiny::<T>();
+        let tiny = self.tiny;
         let (factor, w, ws) = (&self.factor, &self.w, &mut self.ws);
         let mut iterations = 0;
         let mut x = ws.minimiser(factor, w);
         // Dual feasibility: the rows whose multipliers have the wrong sign leave, the most wrong
         // first.
         let mut hx = hessian_times(p, &factor.first, &x);
-        while let Some(j) = most_wrong(p, ws, &(hx + p.f)) {
+        while let Some(j) = most_wrong(p, ws, &(hx + p.f), tiny) {
             ws.remove(j);
             iterations += 1;
             x = ws.minimiser(factor, w);
@@ -709,13 +747,29 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         }
         if stepped {
             hx = hessian_times(p, &factor.first, &x);
-            if most_wrong(p, ws, &(hx + p.f)).is_some() {
+            if most_wrong(p, ws, &(hx + p.f), tiny).is_some() {
                 return None;
             }
         }
         let out = finish(p, ws, x, &hx, iterations);
         self.answered = out.is_some();
         out
+    }
+}
+
+impl<T: RealField + Copy, const N: usize> Default for Dual<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: RealField + Copy, const N: usize> core::fmt::Debug for Dual<T, N> {
+    /// The working set's size and whether the last solve answered (not the factors' numbers).
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Dual")
+            .field("rows", &self.ws.m)
+            .field("answered", &self.answered)
+            .finish_non_exhaustive()
     }
 }
 
