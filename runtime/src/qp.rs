@@ -473,7 +473,7 @@ pub fn solve_definite<T: RealField + Copy, const N: usize, const E: usize, const
 /// The dual active-set method of Goldfarb & Idnani (*Math. Programming* 27, 1983) from the
 /// warm start's working set, the first half of [`solve_definite`]: the warm start's rows taken
 /// in as equalities (a dependent one left out), the rows whose multipliers have the wrong sign
-/// released, the most wrong first, then the most violated row taken in along
+/// released (all at once, until none is left), then the most violated row taken in along
 ///
 /// ```text
 /// z = L⁻ᵀ (I − Q Qᵀ) L⁻¹ n₊ (primal),   r = R⁻¹ Qᵀ L⁻¹ n₊ (dual)                      (12)

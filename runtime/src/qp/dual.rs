@@ -28,8 +28,8 @@
 //! a row; one with nothing to release cannot be met (the problem is infeasible here).
 //!
 //! The warm start's working set is taken in first as equalities (a dependent row left out) and
-//! its rows whose multipliers have the wrong sign are released, the most wrong first, until the
-//! point is dual feasible; from the optimum's own working set the method ends there, with no
+//! its rows whose multipliers have the wrong sign are released, all at once, until the point is
+//! dual feasible (a row released too many is violated and taken in again by the steps); from the optimum's own working set the method ends there, with no
 //! step: what a controller's warm start usually is. The answer is the minimiser (11) on the
 //! last working set computed afresh, kept only where it meets the Karush–Kuhn–Tucker conditions
 //! within the solver's tolerances.
@@ -444,13 +444,7 @@ fn most_wrong<T: RealField + Copy, const N: usize, const E: usize, const C: usiz
         if !ws.free[j] {
             continue;
         }
-        let id = ws.id[j];
-        let norm = if id < E + C {
-            p.g.row(id - E).norm()
-        } else {
-            T::one()
-        };
-        let wrong = -ws.u[j] * norm;
+        let wrong = -ws.u[j] * row_norm(p, ws.id[j]);
         if wrong > most.0 {
             most = (wrong, Some(j));
         }
@@ -624,12 +618,18 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         let (factor, w, ws) = (&self.factor, &self.w, &mut self.ws);
         let mut iterations = 0;
         let mut x = ws.minimiser(factor, w);
-        // Dual feasibility: the rows whose multipliers have the wrong sign leave, the most wrong
-        // first.
+        // Dual feasibility: the rows whose multipliers have the wrong sign leave, all of them at
+        // once (a row released too many is violated and taken in again by the steps below),
+        // until none is left.
         let mut hx = hessian_times(p, &factor.first, &x);
-        while let Some(j) = most_wrong(p, ws, &(hx + p.f), tiny) {
-            ws.remove(j);
-            iterations += 1;
+        while most_wrong(p, ws, &(hx + p.f), tiny).is_some() {
+            let tol = tiny * (T::one() + (hx + p.f).amax());
+            for j in (0..ws.m).rev() {
+                if ws.free[j] && -ws.u[j] * row_norm(p, ws.id[j]) > tol {
+                    ws.remove(j);
+                    iterations += 1;
+                }
+            }
             x = ws.minimiser(factor, w);
             hx = hessian_times(p, &factor.first, &x);
         }
@@ -770,6 +770,18 @@ impl<T: RealField + Copy, const N: usize> core::fmt::Debug for Dual<T, N> {
             .field("rows", &self.ws.m)
             .field("answered", &self.answered)
             .finish_non_exhaustive()
+    }
+}
+
+/// `‖aᵢ‖` of an inequality row `id` (a bound's is 1).
+fn row_norm<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    p: &Problem<T, N, E, C>,
+    id: usize,
+) -> T {
+    if id < E + C {
+        p.g.row(id - E).norm()
+    } else {
+        T::one()
     }
 }
 
