@@ -29,10 +29,10 @@
 //!
 //! The warm start's working set is taken in first as equalities (a dependent row left out) and
 //! its rows whose multipliers have the wrong sign are released, all at once, until the point is
-//! dual feasible (a row released too many is violated and taken in again by the steps); from the optimum's own working set the method ends there, with no
-//! step: what a controller's warm start usually is. The answer is the minimiser (11) on the
-//! last working set computed afresh, kept only where it meets the Karush–Kuhn–Tucker conditions
-//! within the solver's tolerances.
+//! dual feasible (a row released too many is violated and taken in again by the steps); from
+//! the optimum's own working set the method ends there, with no step: what a controller's warm
+//! start usually is. The answer is the minimiser (11) on the last working set computed afresh,
+//! kept only where it meets the Karush–Kuhn–Tucker conditions within the solver's tolerances.
 
 // Dense factorisations read best as index loops over the fixed-size arrays; `!(a > b)` is
 // meant wherever it appears: a NaN fails the test.
