@@ -209,6 +209,7 @@ impl<T: RealField + Copy, const N: usize> Working<T, N> {
             }
             self.span[j] = (0, 0);
         }
+        self.u = SVector::zeros();
         self.m = 0;
     }
 
@@ -293,7 +294,14 @@ impl<T: RealField + Copy, const N: usize> Working<T, N> {
         }
         for i in j..m - 1 {
             let (a, b) = (self.r[(i, i)], self.r[(i + 1, i)]);
-            let h = (a * a + b * b).sqrt();
+            // `hypot` scaled by the larger, which does not overflow.
+            let big = a.abs().max(b.abs());
+            let h = if big > T::zero() {
+                let (a, b) = (a / big, b / big);
+                big * (a * a + b * b).sqrt()
+            } else {
+                T::zero()
+            };
             if h == T::zero() {
                 continue;
             }
@@ -322,16 +330,6 @@ impl<T: RealField + Copy, const N: usize> Working<T, N> {
         self.span[m - 1] = (0, 0);
         self.u[m - 1] = T::zero();
         self.m -= 1;
-    }
-
-    /// The multipliers of the rows that may leave, at least zero (a row within the multiplier
-    /// tolerance of zero stays).
-    fn clamp(&mut self) {
-        for j in 0..self.m {
-            if self.free[j] {
-                self.u[j] = self.u[j].max(T::zero());
-            }
-        }
     }
 
     /// One step of refinement of the minimiser `x` (11) on its own rows: with the residual
@@ -636,11 +634,11 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         if !all_finite(x.as_slice()) {
             return None;
         }
-        ws.clamp();
         // Every row joins once and leaves once in a pass without degeneracy; a few times that
         // bounds a pass that cycles.
         let cap = 4 * (E + C + N) + 8;
-        let mut stepped = false;
+        // `x` moved since the multipliers' signs were last looked at (a step or a refinement).
+        let mut moved = false;
         let mut refined = false;
         // `x` is the minimiser (11) computed afresh, not stepped to.
         let mut fresh = true;
@@ -652,7 +650,6 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
                 // The point afresh on the last working set (the steps' rounding does not
                 // build up), and the rows looked at again.
                 x = ws.minimiser(factor, w);
-                ws.clamp();
                 fresh = true;
                 continue;
             };
@@ -667,7 +664,6 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
             if ws.id[..ws.m].contains(&id) {
                 if !fresh {
                     x = ws.minimiser(factor, w);
-                    ws.clamp();
                     fresh = true;
                     continue;
                 }
@@ -675,8 +671,8 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
                     return None;
                 }
                 ws.refine(p, factor, &mut x);
-                ws.clamp();
                 refined = true;
+                moved = true;
                 continue;
             }
             refined = false;
@@ -692,7 +688,7 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
                 if iterations > cap {
                     return None;
                 }
-                stepped = true;
+                moved = true;
                 let mut y = y0;
                 let mut span = span0;
                 let d = ws.project(&mut y, &mut span, size);
@@ -700,9 +696,10 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
                 let independent = norm > tiny * size && ws.m < N;
                 let r = ws.solve_r(&d);
                 let mut partial: Option<(T, usize)> = None;
+                // A multiplier within the tolerance below zero counts as zero.
                 for j in 0..ws.m {
                     if ws.free[j] && r[j] > T::zero() {
-                        let t = ws.u[j] / r[j];
+                        let t = ws.u[j].max(T::zero()) / r[j];
                         if partial.is_none_or(|(best, _)| t < best) {
                             partial = Some((t, j));
                         }
@@ -738,14 +735,15 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
                     }
                     None => {
                         ws.append(&y, span, norm, &d, row, u_new);
-                        ws.clamp();
                         fresh = false;
                         break;
                     }
                 }
             }
         }
-        if stepped {
+        // The multipliers afresh (not clamped) must have their signs: the Karush–Kuhn–Tucker
+        // conditions, checked where the point moved since the release loop looked.
+        if moved {
             hx = hessian_times(p, &factor.first, &x);
             if most_wrong(p, ws, &(hx + p.f), tiny).is_some() {
                 return None;
@@ -778,6 +776,7 @@ fn row_norm<T: RealField + Copy, const N: usize, const E: usize, const C: usize>
     p: &Problem<T, N, E, C>,
     id: usize,
 ) -> T {
+    debug_assert!(id >= E, "an equality row has no sign to keep");
     if id < E + C {
         p.g.row(id - E).norm()
     } else {
@@ -822,7 +821,7 @@ fn finish<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     hx: &SVector<T, N>,
     iterations: usize,
 ) -> Option<Solution<T, N, E, C>> {
-    if !(all_finite(x.as_slice()) & all_finite(ws.u.as_slice())) {
+    if !(all_finite(x.as_slice()) & all_finite(&ws.u.as_slice()[..ws.m])) {
         return None;
     }
     let feas = feasibility::<T, N>();
@@ -831,7 +830,7 @@ fn finish<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
         let a = p.a_eq.row(e);
         let mag = (0..N).fold(T::zero(), |s, c| s + (a[c] * x[c]).abs());
         let res = ((a * x)[0] - p.b_eq[e]).abs();
-        if res > row_tolerance(feas, p.b_eq[e], p.b_eq[e], mag) {
+        if !(res <= row_tolerance(feas, p.b_eq[e], p.b_eq[e], mag)) {
             return None;
         }
         equality_residual = equality_residual.max(res);
@@ -867,6 +866,9 @@ fn finish<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     for k in 0..N {
         violation += (p.lb[k] - x[k]).max(T::zero()) + (x[k] - p.ub[k]).max(T::zero());
     }
+    if !(objective.is_finite() && violation.is_finite()) {
+        return None;
+    }
     Some(Solution {
         x,
         status: Status::Optimal,
@@ -884,7 +886,7 @@ fn finish<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::qp::{ActiveSet, Settings};
+    use crate::qp::{ActiveSet, Settings, Side};
 
     /// A definite problem of 9 rates (three blocks of three, as a scene's arms), 2 equality rows
     /// and 2 general rows, from `seed` (a linear congruential sequence: no dependency).
@@ -954,5 +956,46 @@ mod tests {
             }
         }
         assert!(resolved >= 150, "only {resolved} second solves answered");
+    }
+
+    /// A workspace whose last solve declined midway (a multiplier overflowed) answers the next
+    /// problem as a fresh one does; and a solve whose objective overflows declines rather than
+    /// return a non-finite number.
+    #[test]
+    fn a_declined_solve_leaves_nothing_behind_and_overflow_declines() {
+        let mut p = Problem::<f64, 2, 0, 1> {
+            h: SMatrix::identity(),
+            f: SVector::from([1e300, 0.0]),
+            a_eq: SMatrix::zeros(),
+            b_eq: SVector::zeros(),
+            g: SMatrix::from_row_slice(&[1e-10, 0.0]),
+            lo: SVector::from([0.0]),
+            hi: SVector::from([1.0]),
+            lb: SVector::from([-1.0, -1.0]),
+            ub: SVector::from([1.0, 1.0]),
+        };
+        let mut kept = Dual::new();
+        let mut warm = ActiveSet::EMPTY;
+        warm.general[0] = Side::Lower;
+        assert!(kept.solve(&p, &warm).is_none());
+        p.f = SVector::zeros();
+        p.g = SMatrix::from_row_slice(&[1.0, 0.0]);
+        p.lo[0] = -1.0;
+        let fresh = Dual::new().solve(&p, &ActiveSet::EMPTY);
+        assert!(fresh.is_some());
+        assert_eq!(kept.solve(&p, &ActiveSet::EMPTY), fresh);
+        // x = 1e160 squared overflows the objective.
+        let big = Problem::<f64, 1, 0, 0> {
+            h: SMatrix::identity(),
+            f: SVector::from([-1e160]),
+            a_eq: SMatrix::zeros(),
+            b_eq: SVector::zeros(),
+            g: SMatrix::zeros(),
+            lo: SVector::zeros(),
+            hi: SVector::zeros(),
+            lb: SVector::from([-1.0]),
+            ub: SVector::from([1e200]),
+        };
+        assert!(Dual::new().solve(&big, &ActiveSet::EMPTY).is_none());
     }
 }
