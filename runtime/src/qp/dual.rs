@@ -427,27 +427,24 @@ fn hessian_times<T: RealField + Copy, const N: usize, const E: usize, const C: u
     hx
 }
 
-/// The free row whose multiplier is most of the wrong sign, scaled by `‖nⱼ‖`, beyond the
-/// tolerance `ε^{2/3} (1 + ‖H x + f‖∞)` (the primal method's release rule (10)); `grad` is
-/// `H x + f`.
-fn most_wrong<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+/// Whether row `j` of the working set is free and its multiplier, scaled by `‖nⱼ‖`, is of the
+/// wrong sign beyond `tol` (the primal method's release rule (10)).
+fn wrong_sign<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     p: &Problem<T, N, E, C>,
     ws: &Working<T, N>,
-    grad: &SVector<T, N>,
+    j: usize,
+    tol: T,
+) -> bool {
+    ws.free[j] && -ws.u[j] * row_norm(p, ws.id[j]) > tol
+}
+
+/// The multipliers' sign tolerance `ε^{2/3} (1 + ‖H x + f‖∞)`, with `hx = H x`.
+fn sign_tolerance<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    p: &Problem<T, N, E, C>,
+    hx: &SVector<T, N>,
     tiny: T,
-) -> Option<usize> {
-    let tol = tiny * (T::one() + grad.amax());
-    let mut most = (tol, None);
-    for j in 0..ws.m {
-        if !ws.free[j] {
-            continue;
-        }
-        let wrong = -ws.u[j] * row_norm(p, ws.id[j]);
-        if wrong > most.0 {
-            most = (wrong, Some(j));
-        }
-    }
-    most.1
+) -> T {
+    tiny * (T::one() + (hx + p.f).amax())
 }
 
 /// See [`super::solve_range_space`].
@@ -459,16 +456,12 @@ pub(super) fn solve<T: RealField + Copy, const N: usize, const E: usize, const C
     dual.solve(p, warm)
 }
 
-/// `true` where every bound is finite and in order (`lo ≤ hi`, `lb ≤ ub`), as the solvers ask.
+/// `true` where every bound is in order (`lo ≤ hi`, `lb ≤ ub`), as the solvers ask (a NaN
+/// passes: the finiteness checks catch it).
 fn bounds_in_order<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     p: &Problem<T, N, E, C>,
 ) -> bool {
-    all_finite(p.b_eq.as_slice())
-        & all_finite(p.lo.as_slice())
-        & all_finite(p.hi.as_slice())
-        & all_finite(p.lb.as_slice())
-        & all_finite(p.ub.as_slice())
-        && !((0..C).any(|r| p.lo[r] > p.hi[r]) || (0..N).any(|k| p.lb[k] > p.ub[k]))
+    !((0..C).any(|r| p.lo[r] > p.hi[r]) || (0..N).any(|k| p.lb[k] > p.ub[k]))
 }
 
 /// The dual active-set method's workspace (Goldfarb & Idnani; see
@@ -588,7 +581,12 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         &mut self,
         p: &Problem<T, N, E, C>,
     ) -> Option<Solution<T, N, E, C>> {
-        if !self.answered || !bounds_in_order(p) {
+        let bounds_finite = all_finite(p.b_eq.as_slice())
+            & all_finite(p.lo.as_slice())
+            & all_finite(p.hi.as_slice())
+            & all_finite(p.lb.as_slice())
+            & all_finite(p.ub.as_slice());
+        if !self.answered || !bounds_finite || !bounds_in_order(p) {
             return None;
         }
         self.answered = false;
@@ -620,13 +618,18 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         // once (a row released too many is violated and taken in again by the steps below),
         // until none is left.
         let mut hx = hessian_times(p, &factor.first, &x);
-        while most_wrong(p, ws, &(hx + p.f), tiny).is_some() {
-            let tol = tiny * (T::one() + (hx + p.f).amax());
+        loop {
+            let tol = sign_tolerance(p, &hx, tiny);
+            let mut released = false;
             for j in (0..ws.m).rev() {
-                if ws.free[j] && -ws.u[j] * row_norm(p, ws.id[j]) > tol {
+                if wrong_sign(p, ws, j, tol) {
                     ws.remove(j);
                     iterations += 1;
+                    released = true;
                 }
+            }
+            if !released {
+                break;
             }
             x = ws.minimiser(factor, w);
             hx = hessian_times(p, &factor.first, &x);
@@ -677,11 +680,12 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
             }
             refined = false;
             let row = oriented(p, id, side)?;
-            let mut y0 = normal(p, id) * row.1;
+            let n_plus = normal(p, id) * row.1;
+            let mut y0 = n_plus;
             let span0 = factor.forward(&mut y0);
             let size = norm_in(&y0, span0);
             // s = n₊ᵀ x − τ₊ < 0, and the new row's multiplier.
-            let mut s = (normal(p, id) * row.1).dot(&x) - row.2;
+            let mut s = n_plus.dot(&x) - row.2;
             let mut u_new = T::zero();
             loop {
                 iterations += 1;
@@ -745,7 +749,8 @@ impl<T: RealField + Copy, const N: usize> Dual<T, N> {
         // conditions, checked where the point moved since the release loop looked.
         if moved {
             hx = hessian_times(p, &factor.first, &x);
-            if most_wrong(p, ws, &(hx + p.f), tiny).is_some() {
+            let tol = sign_tolerance(p, &hx, tiny);
+            if (0..ws.m).any(|j| wrong_sign(p, ws, j, tol)) {
                 return None;
             }
         }
